@@ -1,0 +1,53 @@
+// Axis-aligned box min ≤ p ≤ max.
+#pragma once
+
+#include "reference/ray.h"
+
+#include <optional>
+
+namespace twinray::reference {
+
+template <typename T>
+struct BoxShape {
+    Vec3<T> min;
+    Vec3<T> max;
+    int leaf = -1;
+};
+
+// Slabs (Kay–Kajiya): per axis the line is between the two face planes for t in [near, far]; the
+// box is the intersection of the three. The entering face is the axis of the largest near, the
+// leaving face the axis of the smallest far. A ray parallel to a slab is inside it everywhere or
+// nowhere; one running exactly within a face plane is not inside (as for planes).
+template <typename T>
+std::optional<Span<T>> span_of(const BoxShape<T>& box, const Ray<T>& ray) {
+    Crossing<T> enter = infinitely_far(T(-1));
+    Crossing<T> exit = infinitely_far(T(1));
+    for (int axis = 0; axis < 3; ++axis) {
+        T origin = ray.origin[axis];
+        T direction = ray.direction[axis];
+        if (direction == T(0)) {
+            if (!(origin > box.min[axis] && origin < box.max[axis])) {
+                return std::nullopt;
+            }
+            continue;
+        }
+        T t_min_face = (box.min[axis] - origin) / direction;
+        T t_max_face = (box.max[axis] - origin) / direction;
+        bool forward = direction > T(0);
+        T near = forward ? t_min_face : t_max_face;
+        T far = forward ? t_max_face : t_min_face;
+        Vec3<T> axis_normal{axis == 0 ? T(1) : T(0), axis == 1 ? T(1) : T(0), axis == 2 ? T(1) : T(0)};
+        if (near > enter.t) {
+            enter = {near, forward ? -axis_normal : axis_normal, box.leaf};
+        }
+        if (far < exit.t) {
+            exit = {far, forward ? axis_normal : -axis_normal, box.leaf};
+        }
+    }
+    if (!(enter.t <= exit.t)) {
+        return std::nullopt;
+    }
+    return Span<T>{enter, exit};
+}
+
+}  // namespace twinray::reference

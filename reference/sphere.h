@@ -1,0 +1,46 @@
+// Sphere |p − c| = r.
+#pragma once
+
+#include "reference/ray.h"
+
+#include <cmath>
+#include <optional>
+#include <utility>
+
+namespace twinray::reference {
+
+template <typename T>
+struct SphereShape {
+    Vec3<T> center;
+    T radius{};
+    int leaf = -1;
+};
+
+// With f = o − c and unit d: t² + 2bt + c = 0, b = f·d, c = f·f − r².
+// The discriminant is taken as r² − |f − b·d|² instead of b² − c, which cancels catastrophically once
+// the sphere is far away relative to its radius (Haines et al., Ray Tracing Gems ch. 7). The roots use
+// q = −b − sign(b)·√Δ, t = q and t = c/q, so neither subtracts nearly equal numbers.
+template <typename T>
+std::optional<Span<T>> span_of(const SphereShape<T>& sphere, const Ray<T>& ray) {
+    Vec3<T> f = ray.origin - sphere.center;
+    T b = dot(f, ray.direction);
+    Vec3<T> perpendicular = f - b * ray.direction;
+    T discriminant = sphere.radius * sphere.radius - dot(perpendicular, perpendicular);
+    if (!(discriminant >= T(0))) {
+        return std::nullopt;
+    }
+    T c = dot(f, f) - sphere.radius * sphere.radius;
+    T q = -b - std::copysign(std::sqrt(discriminant), b);
+    // q = 0 only for b = 0 and a zero discriminant: the origin touches the sphere, both roots are 0.
+    T t0 = q;
+    T t1 = q == T(0) ? T(0) : c / q;
+    if (t0 > t1) {
+        std::swap(t0, t1);
+    }
+    auto crossing = [&](T t) {
+        return Crossing<T>{t, normalize(ray.at(t) - sphere.center), sphere.leaf};
+    };
+    return Span<T>{crossing(t0), crossing(t1)};
+}
+
+}  // namespace twinray::reference

@@ -1,0 +1,263 @@
+#include "reference/tracer.h"
+
+#include "reference/csg.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <type_traits>
+
+namespace twinray::reference {
+namespace {
+
+template <typename T>
+Shape<T> compile(const scene::Object& object) {
+    return std::visit(
+        [&](const auto& shape) -> Shape<T> {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<S, scene::Plane>) {
+                return PlaneShape<T>{Vec3<T>(shape.normal), static_cast<T>(shape.offset), object.leaf};
+            } else if constexpr (std::is_same_v<S, scene::Sphere>) {
+                return SphereShape<T>{Vec3<T>(shape.center), static_cast<T>(shape.radius), object.leaf};
+            } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
+                Vec3<T> base(shape.base);
+                Vec3<T> along = Vec3<T>(shape.cap) - base;
+                return CylinderShape<T>{base, normalize(along), length(along), static_cast<T>(shape.radius), object.leaf};
+            } else if constexpr (std::is_same_v<S, scene::Box>) {
+                return BoxShape<T>{Vec3<T>(shape.min), Vec3<T>(shape.max), object.leaf};
+            } else {
+                CsgNode<T> node{shape.op, {}};
+                for (const scene::Object& child : shape.children) {
+                    node.children.push_back(compile<T>(child));
+                }
+                return node;
+            }
+        },
+        object.shape);
+}
+
+template <typename T>
+SpanList<T> spans_of(const Shape<T>& shape, const Ray<T>& ray) {
+    if (const auto* node = std::get_if<CsgNode<T>>(&shape)) {
+        SpanList<T> spans = spans_of(node->children.front(), ray);
+        for (std::size_t i = 1; i < node->children.size(); ++i) {
+            SpanList<T> other = spans_of(node->children[i], ray);
+            switch (node->op) {
+                case scene::CsgOp::union_: spans = csg_union(spans, other); break;
+                case scene::CsgOp::intersection: spans = csg_intersection(spans, other); break;
+                case scene::CsgOp::difference: spans = csg_difference(spans, other); break;
+            }
+        }
+        return spans;
+    }
+    return std::visit(
+        [&](const auto& primitive) -> SpanList<T> {
+            if constexpr (std::is_same_v<std::decay_t<decltype(primitive)>, CsgNode<T>>) {
+                return {};
+            } else {
+                auto span = span_of(primitive, ray);
+                return span ? SpanList<T>{*span} : SpanList<T>{};
+            }
+        },
+        shape);
+}
+
+template <typename T>
+MaterialT<T> convert(const scene::Material& m) {
+    auto s = [](double v) { return static_cast<T>(v); };
+    return {Color<T>(m.color), s(m.ambient),    s(m.diffuse),      s(m.phong),
+            s(m.phong_size),   s(m.reflection), s(m.transmission), s(m.ior)};
+}
+
+template <typename T>
+CameraT<T> make_camera(const scene::Camera& camera) {
+    Vec3<T> eye(camera.eye);
+    Vec3<T> forward = normalize(Vec3<T>(camera.look_at) - eye);
+    Vec3<T> right = normalize(cross(forward, Vec3<T>(camera.up)));
+    Vec3<T> up = cross(right, forward);
+    T half_width = static_cast<T>(std::tan(camera.fov_deg * std::numbers::pi / 360.0));
+    return {eye, forward, right, up, half_width};
+}
+
+// Mirror direction of d about n.
+template <typename T>
+Vec3<T> reflect(Vec3<T> d, Vec3<T> n) {
+    return d - T(2) * dot(d, n) * n;
+}
+
+// Snell's law with n facing the incoming ray and eta = n_from / n_to; nullopt on total internal
+// reflection.
+template <typename T>
+std::optional<Vec3<T>> refract(Vec3<T> d, Vec3<T> n, T eta) {
+    T cos_incident = -dot(d, n);
+    T sin2_transmitted = eta * eta * (T(1) - cos_incident * cos_incident);
+    if (sin2_transmitted > T(1)) {
+        return std::nullopt;
+    }
+    T cos_transmitted = std::sqrt(T(1) - sin2_transmitted);
+    return normalize(eta * d + (eta * cos_incident - cos_transmitted) * n);
+}
+
+}  // namespace
+
+template <typename T>
+Tracer<T>::Tracer(const scene::Scene& scene)
+    : camera_(make_camera<T>(scene.camera)),
+      background_(scene.background),
+      ambient_light_(scene.ambient_light),
+      max_depth_(scene.max_depth),
+      leaf_materials_(scene.leaf_materials) {
+    for (const scene::Material& material : scene.materials) {
+        materials_.push_back(convert<T>(material));
+    }
+    for (const scene::Light& light : scene.lights) {
+        lights_.push_back({Vec3<T>(light.position), Color<T>(light.color)});
+    }
+    for (const scene::Object& object : scene.objects) {
+        objects_.push_back(compile<T>(object));
+    }
+}
+
+// A span list's first crossing after t = 0. Infinite ends (half-spaces) are not surfaces.
+template <typename T>
+std::optional<Hit<T>> Tracer<T>::intersect(const Ray<T>& ray) const {
+    std::optional<Hit<T>> nearest;
+    for (const Shape<T>& object : objects_) {
+        for (const Span<T>& span : spans_of(object, ray)) {
+            bool entering = span.enter.t > T(0);
+            const Crossing<T>& crossing = entering ? span.enter : span.exit;
+            if (!(crossing.t > T(0))) {
+                continue;
+            }
+            // Strictly nearer: at equal t the object earlier in the file keeps the hit.
+            if (crossing.leaf >= 0 && (!nearest || crossing.t < nearest->t)) {
+                Vec3<T> facing = dot(crossing.outward_normal, ray.direction) > T(0) ? -crossing.outward_normal
+                                                                                    : crossing.outward_normal;
+                nearest = Hit<T>{crossing.t, ray.at(crossing.t), facing, crossing.leaf, entering};
+            }
+            break;
+        }
+    }
+    return nearest;
+}
+
+template <typename T>
+T Tracer<T>::shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const {
+    Vec3<T> to_light = light_position - origin;
+    T distance = length(to_light);
+    Ray<T> ray{origin, to_light / distance};
+    T transmittance = T(1);
+    for (const Shape<T>& object : objects_) {
+        for (const Span<T>& span : spans_of(object, ray)) {
+            for (const Crossing<T>* crossing : {&span.enter, &span.exit}) {
+                if (crossing->leaf >= 0 && crossing->t > T(0) && crossing->t < distance) {
+                    transmittance *= material_of(crossing->leaf).transmission;
+                }
+            }
+            if (transmittance == T(0)) {
+                return transmittance;
+            }
+        }
+    }
+    return transmittance;
+}
+
+// Secondary rays start off the surface, on the side they leave to, by a distance that bounds the
+// rounding error of the hit point: p = o + t·d is off the true surface by a few ε·(|o| + t) (ε the
+// scalar type's machine epsilon); 64·ε·(|p|∞ + t) covers that with an order of magnitude to spare
+// (|o| ≤ |p| + t), scales with the scene, and stays far below any feature the scene can resolve.
+// With the origin off the surface, the new ray accepts any hit with t > 0.
+template <typename T>
+Vec3<T> Tracer<T>::spawn_origin(const Hit<T>& hit, Vec3<T> direction) {
+    T offset = T(64) * std::numeric_limits<T>::epsilon() * (max_abs_component(hit.point) + hit.t);
+    T side = dot(direction, hit.normal) >= T(0) ? T(1) : T(-1);
+    return hit.point + (side * offset) * hit.normal;
+}
+
+template <typename T>
+Color<T> Tracer<T>::trace(const Ray<T>& ray, int depth, std::uint64_t* rays) const {
+    std::uint64_t count = 0;
+    ++count;
+    std::optional<Hit<T>> hit = intersect(ray);
+    Color<T> color = hit ? shade(ray, *hit, depth, count) : background_;
+    if (rays != nullptr) {
+        *rays += count;
+    }
+    return color;
+}
+
+// I = ambient·C·ambient_light + Σ_lights shadow·(diffuse·C·Lc·(N·L) + phong·Lc·max(0, R·L)^phong_size)
+//   + reflection·I(reflected) + transmission·I(refracted)          (SCENES.md, "Shading")
+template <typename T>
+Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays) const {
+    const MaterialT<T>& m = material_of(hit.leaf);
+    Color<T> color = m.ambient * (m.color * ambient_light_);
+    Vec3<T> mirror = reflect(ray.direction, hit.normal);
+    for (const LightT<T>& light : lights_) {
+        Vec3<T> to_light = normalize(light.position - hit.point);
+        T lambert = dot(hit.normal, to_light);
+        if (!(lambert > T(0))) {
+            continue;
+        }
+        ++rays;
+        T shadow = shadow_transmittance(spawn_origin(hit, to_light), light.position);
+        if (shadow == T(0)) {
+            continue;
+        }
+        Color<T> diffuse = (m.diffuse * lambert) * (m.color * light.color);
+        T highlight = m.phong > T(0) ? m.phong * std::pow(std::fmax(T(0), dot(mirror, to_light)), m.phong_size) : T(0);
+        color += shadow * (diffuse + highlight * light.color);
+    }
+    if (depth >= max_depth_) {
+        return color;
+    }
+    T reflection = m.reflection;
+    if (m.transmission > T(0)) {
+        T eta = hit.entering ? T(1) / m.ior : m.ior;
+        if (std::optional<Vec3<T>> refracted = refract(ray.direction, hit.normal, eta)) {
+            Ray<T> next{spawn_origin(hit, *refracted), *refracted};
+            color += m.transmission * trace(next, depth + 1, &rays);
+        } else {
+            reflection += m.transmission;  // total internal reflection
+        }
+    }
+    if (reflection > T(0)) {
+        Ray<T> next{spawn_origin(hit, mirror), mirror};
+        color += reflection * trace(next, depth + 1, &rays);
+    }
+    return color;
+}
+
+template <typename T>
+Ray<T> Tracer<T>::primary_ray(int x, int y, int width, int height) const {
+    T half_height = camera_.half_width * static_cast<T>(height) / static_cast<T>(width);
+    T u = (T(2) * (static_cast<T>(x) + T(0.5)) / static_cast<T>(width) - T(1)) * camera_.half_width;
+    T v = (T(1) - T(2) * (static_cast<T>(y) + T(0.5)) / static_cast<T>(height)) * half_height;
+    return {camera_.eye, normalize(camera_.forward + u * camera_.right + v * camera_.up)};
+}
+
+template <typename T>
+RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
+    scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
+    Tracer<T> tracer(scene);
+    Image image(size.width, size.height);
+    std::uint64_t rays = parallel_for(
+        size.height, options.threads,
+        [&](int y) {
+            std::uint64_t row_rays = 0;
+            for (int x = 0; x < size.width; ++x) {
+                Color<T> c = tracer.trace(tracer.primary_ray(x, y, size.width, size.height), 1, &row_rays);
+                image.at(x, y) = {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
+            }
+            return row_rays;
+        },
+        options.progress);
+    return {std::move(image), rays};
+}
+
+template class Tracer<double>;
+template class Tracer<float>;
+template RenderResult render<double>(const scene::Scene&, const RenderOptions&);
+template RenderResult render<float>(const scene::Scene&, const RenderOptions&);
+
+}  // namespace twinray::reference

@@ -1,0 +1,96 @@
+// The reference Whitted tracer: scalar, textbook formulas, a template on the scalar type.
+// Tracer<double> is the oracle everything else is measured against; Tracer<float> runs the very same
+// code in single precision, isolating the cost of precision from the cost of SIMD.
+#pragma once
+
+#include "reference/box.h"
+#include "reference/cylinder.h"
+#include "reference/plane.h"
+#include "reference/ray.h"
+#include "reference/sphere.h"
+#include "render/render.h"
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <optional>
+#include <variant>
+#include <vector>
+
+namespace twinray::reference {
+
+template <typename T>
+struct CsgNode;
+
+template <typename T>
+using Shape = std::variant<PlaneShape<T>, SphereShape<T>, CylinderShape<T>, BoxShape<T>, CsgNode<T>>;
+
+template <typename T>
+struct CsgNode {
+    scene::CsgOp op = scene::CsgOp::union_;
+    std::vector<Shape<T>> children;
+};
+
+template <typename T>
+struct MaterialT {
+    Color<T> color;
+    T ambient, diffuse, phong, phong_size, reflection, transmission, ior;
+};
+
+template <typename T>
+struct LightT {
+    Vec3<T> position;
+    Color<T> color;
+};
+
+// The camera of SCENES.md: horizontal field of view, image plane at distance 1.
+template <typename T>
+struct CameraT {
+    Vec3<T> eye, forward, right, up;
+    T half_width{};  // tan(fov/2)
+};
+
+template <typename T>
+class Tracer {
+public:
+    explicit Tracer(const scene::Scene& scene);
+
+    // The first surface along the ray with t > 0.
+    std::optional<Hit<T>> intersect(const Ray<T>& ray) const;
+
+    // The colour the ray sees; `depth` is 1 for primary rays. `rays`, if given, is incremented for
+    // every ray this traces (this one, shadow rays and secondary rays).
+    Color<T> trace(const Ray<T>& ray, int depth, std::uint64_t* rays = nullptr) const;
+
+    // The ray through the centre of pixel (x, y) of a width × height image, (0, 0) top-left.
+    Ray<T> primary_ray(int x, int y, int width, int height) const;
+
+    // The share of the light's colour that reaches `origin` (already off the surface): the product of
+    // the transmission of every surface crossed strictly before the light.
+    T shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const;
+
+    // Where a secondary ray leaving `hit` towards `direction` starts (see spawn_offset in tracer.cpp).
+    static Vec3<T> spawn_origin(const Hit<T>& hit, Vec3<T> direction);
+
+    const MaterialT<T>& material_of(int leaf) const { return materials_[leaf_materials_[leaf]]; }
+
+private:
+    Color<T> shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays) const;
+
+    CameraT<T> camera_;
+    Color<T> background_, ambient_light_;
+    int max_depth_;
+    std::vector<MaterialT<T>> materials_;
+    std::vector<int> leaf_materials_;
+    std::vector<LightT<T>> lights_;
+    std::vector<Shape<T>> objects_;
+};
+
+template <typename T>
+RenderResult render(const scene::Scene& scene, const RenderOptions& options);
+
+extern template class Tracer<double>;
+extern template class Tracer<float>;
+extern template RenderResult render<double>(const scene::Scene&, const RenderOptions&);
+extern template RenderResult render<float>(const scene::Scene&, const RenderOptions&);
+
+}  // namespace twinray::reference

@@ -1,0 +1,14 @@
+// The exit statuses of every twinray command (documented in the README).
+#pragma once
+
+namespace twinray::cli {
+
+enum ExitCode : int {
+    exit_success = 0,
+    exit_usage = 1,          // bad command line (unknown option, value out of range, unsupported -o format)
+    exit_invalid_scene = 2,  // the scene file is missing, unreadable or breaks the scene contract
+    exit_output_error = 3,   // an output file cannot be written
+    exit_internal_error = 4, // a bug: an unexpected exception (please report it)
+};
+
+}  // namespace twinray::cli

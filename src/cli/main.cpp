@@ -1,0 +1,29 @@
+// twinray: two ray tracers, one scene format, and the tools to hold them against each other.
+#include "cli/exit_codes.h"
+#include "cli/render_command.h"
+
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <functional>
+#include <iostream>
+
+int main(int argc, char** argv) {
+    using namespace twinray::cli;
+    CLI::App app{"twinray: a double-precision reference ray tracer and a fast SSE4.1 tracer, held against each other.\n"
+                 "Exit status: 0 success, 1 usage error, 2 invalid scene, 3 output not writable, 4 internal error."};
+    app.require_subcommand(1);
+    std::function<int()> run;
+    add_render_command(app, run);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& error) {
+        return app.exit(error) == 0 ? exit_success : exit_usage;
+    }
+    try {
+        return run();
+    } catch (const std::exception& error) {
+        std::cerr << "twinray: internal error: " << error.what() << "\n";
+        return exit_internal_error;
+    }
+}

@@ -1,0 +1,123 @@
+#include "cli/render_command.h"
+
+#include "cli/exit_codes.h"
+#include "cli/tracers.h"
+#include "image/image_file.h"
+#include "scene/loader.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <unistd.h>
+
+namespace twinray::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RenderArguments {
+    std::string scene_path;
+    std::string output_path;
+    int width = 0;
+    int height = 0;
+    std::string tracer = "reference";
+    int threads = 0;
+};
+
+// Refuse an output we could not write before spending time on the render.
+std::string output_problem(const fs::path& output) {
+    if (!is_supported_image_path(output)) {
+        return "unsupported image format \"" + output.extension().string() + "\"; allowed: .png (8-bit) or .exr (float)";
+    }
+    fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
+    if (!fs::is_directory(folder)) {
+        return "folder " + folder.string() + " does not exist";
+    }
+    if (::access(folder.c_str(), W_OK) != 0) {
+        return "folder " + folder.string() + " is not writable";
+    }
+    return "";
+}
+
+// Progress only for a person watching: on a terminal, once a render has run for about a second.
+std::function<void(double)> terminal_progress(std::chrono::steady_clock::time_point start) {
+    if (!::isatty(STDERR_FILENO)) {
+        return nullptr;
+    }
+    return [start](double fraction) {
+        if (std::chrono::steady_clock::now() - start > std::chrono::seconds(1)) {
+            std::fprintf(stderr, "\rrendering %3d%%", static_cast<int>(fraction * 100.0));
+            std::fflush(stderr);
+        }
+    };
+}
+
+int run_render(const RenderArguments& arguments) {
+    fs::path output = arguments.output_path.empty() ? fs::path(fs::path(arguments.scene_path).stem().string() + ".png")
+                                                    : fs::path(arguments.output_path);
+    if (std::string problem = output_problem(output); !problem.empty()) {
+        std::cerr << "twinray render: cannot write " << output.string() << ": " << problem << "\n";
+        return is_supported_image_path(output) ? exit_output_error : exit_usage;
+    }
+    scene::Scene scene;
+    try {
+        scene = scene::load_scene(arguments.scene_path);
+    } catch (const scene::SceneError& error) {
+        std::cerr << "twinray render: invalid scene: " << error.what() << "\n";
+        return exit_invalid_scene;
+    }
+    RenderOptions options;
+    options.width = arguments.width;
+    options.height = arguments.height;
+    options.threads = resolve_thread_count(arguments.threads);
+    auto start = std::chrono::steady_clock::now();
+    options.progress = terminal_progress(start);
+    RenderResult result = render_with(arguments.tracer, scene, options);
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (options.progress) {
+        std::fprintf(stderr, "\r              \r");
+    }
+    try {
+        write_image(result.image, output);
+    } catch (const ImageFileError& error) {
+        std::cerr << "twinray render: " << error.what() << "\n";
+        return exit_output_error;
+    }
+    std::printf("scene:       %s\n", arguments.scene_path.c_str());
+    std::printf("tracer:      %s (%d thread%s)\n", arguments.tracer.c_str(), options.threads, options.threads == 1 ? "" : "s");
+    std::printf("resolution:  %d x %d\n", result.image.width(), result.image.height());
+    std::printf("rays traced: %llu\n", static_cast<unsigned long long>(result.rays));
+    std::printf("wall time:   %.3f s\n", seconds);
+    std::printf("speed:       %.2f Mrays/s\n", static_cast<double>(result.rays) / seconds / 1e6);
+    std::printf("wrote:       %s\n", output.string().c_str());
+    return exit_success;
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app, std::function<int()>& run) {
+    auto arguments = std::make_shared<RenderArguments>();
+    CLI::App* command = app.add_subcommand("render", "Render a scene to an image (PNG or EXR)");
+    command->add_option("scene", arguments->scene_path, "Scene file (twinray-scene/1 JSON)")->required();
+    command->add_option("-o,--output", arguments->output_path,
+                        "Output image: .png (8-bit, clamped, no gamma) or .exr (float); default: SCENE's name .png");
+    command->add_option("--width", arguments->width, "Image width; alone, the height follows the scene's aspect ratio")
+        ->check(CLI::Range(1, 16384));
+    command->add_option("--height", arguments->height, "Image height; alone, the width follows the scene's aspect ratio")
+        ->check(CLI::Range(1, 16384));
+    std::string tracer_help = "Tracer:";
+    for (const std::string& name : tracer_names()) {
+        tracer_help += " " + name + " (" + tracer_description(name) + ");";
+    }
+    command->add_option("--tracer", arguments->tracer, tracer_help)
+        ->check(CLI::IsMember(tracer_names()))
+        ->capture_default_str();
+    command->add_option("--threads", arguments->threads, "Worker threads (default: all cores); the image is identical for any count")
+        ->check(CLI::Range(1, 1024));
+    command->callback([arguments, &run] { run = [arguments] { return run_render(*arguments); }; });
+}
+
+}  // namespace twinray::cli

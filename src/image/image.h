@@ -1,0 +1,37 @@
+// A float RGB image, row-major from the top-left pixel: what every tracer renders.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace twinray {
+
+struct Rgb {
+    float r = 0, g = 0, b = 0;
+    friend bool operator==(const Rgb&, const Rgb&) = default;
+};
+
+class Image {
+public:
+    Image(int width, int height)
+        : width_(width), height_(height), pixels_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height)) {}
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    Rgb& at(int x, int y) { return pixels_[index(x, y)]; }
+    const Rgb& at(int x, int y) const { return pixels_[index(x, y)]; }
+    const std::vector<Rgb>& pixels() const { return pixels_; }
+
+    friend bool operator==(const Image&, const Image&) = default;
+
+private:
+    std::size_t index(int x, int y) const {
+        return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
+    }
+
+    int width_;
+    int height_;
+    std::vector<Rgb> pixels_;
+};
+
+}  // namespace twinray

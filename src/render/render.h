@@ -1,0 +1,32 @@
+// What every tracer's render() takes and gives, and the worker loop they share.
+#pragma once
+
+#include "image/image.h"
+
+#include <cstdint>
+#include <functional>
+
+namespace twinray {
+
+struct RenderOptions {
+    int width = 0;    // 0: the scene's
+    int height = 0;   // 0: the scene's
+    int threads = 0;  // 0: all hardware threads
+    // Called on the calling thread, about ten times a second while rendering, with the share done.
+    std::function<void(double fraction_done)> progress;
+};
+
+struct RenderResult {
+    Image image;
+    std::uint64_t rays = 0;  // primary, shadow, reflected and refracted rays traced
+};
+
+int resolve_thread_count(int requested);
+
+// Runs work(item) for every item in [0, count) on `threads` threads, items handed out in order one at
+// a time. Each item must write only its own output, which is what makes a render bit-identical for
+// any thread count. Returns the sum of what the items return (their ray counts).
+std::uint64_t parallel_for(int count, int threads, const std::function<std::uint64_t(int item)>& work,
+                           const std::function<void(double fraction_done)>& progress);
+
+}  // namespace twinray

@@ -1,0 +1,35 @@
+// Reads and validates twinray-scene/1 JSON. Every rule of the contract is checked before anything is
+// rendered; a refusal names the file, the JSON path (or line and column), what is wrong and what is
+// allowed.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace twinray::scene {
+
+class SceneError : public std::runtime_error {
+public:
+    // `location` is a JSON path such as "objects[3].radius" ("" for the document itself), or
+    // "line L, column C" for a syntax error.
+    SceneError(std::string file, std::string location, std::string problem);
+
+    const std::string& file() const { return file_; }
+    const std::string& location() const { return location_; }
+    const std::string& problem() const { return problem_; }
+
+private:
+    std::string file_;
+    std::string location_;
+    std::string problem_;
+};
+
+// `source_name` is used only in messages (a file path, or e.g. "<string>").
+Scene parse_scene(std::string_view json_text, const std::string& source_name);
+Scene load_scene(const std::filesystem::path& file);
+
+}  // namespace twinray::scene

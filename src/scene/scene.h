@@ -1,0 +1,118 @@
+// The scene model: what a twinray-scene/1 file says, validated and resolved, in double precision.
+// Both tracers read this and nothing else of each other (see ../shared contract, docs/scene-format.md).
+#pragma once
+
+#include <array>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace twinray::scene {
+
+// Plain data: each tracer converts to its own vector type and precision.
+using Vec3 = std::array<double, 3>;
+
+struct Material {
+    Vec3 color{1, 1, 1};
+    double ambient = 0.1;
+    double diffuse = 0.6;
+    double phong = 0;
+    double phong_size = 40;
+    double reflection = 0;
+    double transmission = 0;
+    double ior = 1;
+};
+
+struct Camera {
+    Vec3 eye{};
+    Vec3 look_at{};
+    Vec3 up{0, 1, 0};
+    double fov_deg = 50;  // horizontal field of view
+};
+
+struct Light {
+    Vec3 position{};
+    Vec3 color{1, 1, 1};
+};
+
+// The surface n·p = offset with n of unit length; the inside is n·p < offset.
+struct Plane {
+    Vec3 normal{};
+    double offset = 0;
+};
+
+struct Sphere {
+    Vec3 center{};
+    double radius = 0;
+};
+
+// Solid, closed, flat caps at base and cap.
+struct Cylinder {
+    Vec3 base{};
+    Vec3 cap{};
+    double radius = 0;
+};
+
+struct Box {
+    Vec3 min{};
+    Vec3 max{};
+};
+
+enum class CsgOp { union_, intersection, difference };
+
+struct Object;
+
+// `difference` is children[0] minus all the others.
+struct Csg {
+    CsgOp op = CsgOp::union_;
+    std::vector<Object> children;
+};
+
+struct Object {
+    std::variant<Plane, Sphere, Cylinder, Box, Csg> shape;
+    // Only meaningful for primitives (leaves): index into Scene::materials, with CSG inheritance
+    // already applied (own material, else nearest ancestor's, else the built-in default, index 0).
+    int material = 0;
+    // Only meaningful for primitives: index into Scene::leaf_paths; leaves are numbered in document
+    // order, so a smaller leaf index means "earlier in objects" (the tie-break rule).
+    int leaf = -1;
+};
+
+struct Scene {
+    int width = 320;
+    int height = 240;
+    Camera camera;
+    Vec3 background{0, 0, 0};
+    Vec3 ambient_light{1, 1, 1};
+    int max_depth = 5;
+    // materials[0] is the built-in default; named materials follow, in file order.
+    std::vector<Material> materials{Material{}};
+    std::vector<std::string> material_names{"(default)"};
+    std::vector<Light> lights;
+    std::vector<Object> objects;
+    // The stable id of every primitive: its index path in the file, e.g. "objects[4].children[1]".
+    std::vector<std::string> leaf_paths;
+
+    bool has_csg() const;
+    bool has_transparency() const;
+    bool has_reflection() const;
+    const Material& material_of_leaf(int leaf) const { return materials[leaf_materials[leaf]]; }
+
+    // Filled by the loader beside leaf_paths: leaf index -> material index.
+    std::vector<int> leaf_materials;
+};
+
+constexpr int max_image_side = 16384;
+constexpr int max_trace_depth = 64;
+
+struct ImageSize {
+    int width;
+    int height;
+};
+
+// A command-line size replaces the scene's; giving only one side (the other 0) keeps the scene's
+// aspect ratio, rounded to the nearest integer and at least 1. Throws std::invalid_argument when a
+// given side is outside 1..max_image_side.
+ImageSize resolve_image_size(const Scene& scene, int requested_width, int requested_height);
+
+}  // namespace twinray::scene
