@@ -9,6 +9,7 @@ enum ExitCode : int {
     exit_invalid_scene = 2,  // the scene file is missing, unreadable or breaks the scene contract
     exit_output_error = 3,   // an output file cannot be written
     exit_internal_error = 4, // a bug: an unexpected exception (please report it)
+    exit_cpu_unsupported = 5, // the chosen tracer needs a CPU feature this machine lacks (SSE4.1)
 };
 
 }  // namespace twinray::cli

@@ -23,7 +23,7 @@ struct RenderArguments {
     std::string output_path;
     int width = 0;
     int height = 0;
-    std::string tracer = "reference";
+    std::string tracer = default_tracer;
     int threads = 0;
 };
 
@@ -61,6 +61,10 @@ int run_render(const RenderArguments& arguments) {
     if (std::string problem = output_problem(output); !problem.empty()) {
         std::cerr << "twinray render: cannot write " << output.string() << ": " << problem << "\n";
         return is_supported_image_path(output) ? exit_output_error : exit_usage;
+    }
+    if (std::string reason = tracer_unavailable_reason(arguments.tracer); !reason.empty()) {
+        std::cerr << "twinray render: " << reason << "\n";
+        return exit_cpu_unsupported;
     }
     scene::Scene scene;
     try {

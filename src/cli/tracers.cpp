@@ -1,6 +1,8 @@
 #include "cli/tracers.h"
 
 #include "reference/tracer.h"
+#include "sse/cpu.h"
+#include "sse/tracer.h"
 
 #include <functional>
 #include <map>
@@ -18,6 +20,7 @@ const std::map<std::string, TracerEntry>& registry() {
     static const std::map<std::string, TracerEntry> tracers = {
         {"reference", {"scalar double-precision reference (the oracle)", reference::render<double>}},
         {"reference-float", {"the reference's code in single precision", reference::render<float>}},
+        {"sse", {"single-precision SSE4.1 tracer, the fast one", sse::render}},
     };
     return tracers;
 }
@@ -37,6 +40,13 @@ const std::vector<std::string>& tracer_names() {
 
 std::string tracer_description(const std::string& name) {
     return registry().at(name).description;
+}
+
+std::string tracer_unavailable_reason(const std::string& name) {
+    if (name == "sse" && !sse::cpu_supports_sse41()) {
+        return sse::missing_sse41_message();
+    }
+    return "";
 }
 
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options) {

@@ -77,6 +77,11 @@ std::string join(const std::vector<std::string_view>& words)
     return text;
 }
 
+std::string element_count(std::size_t count)
+{
+    return std::to_string(count) + (count == 1 ? " element" : " elements");
+}
+
 // Scalars as written; containers only by their shape, since printing them could be huge.
 std::string describe(const Json& value)
 {
@@ -84,7 +89,7 @@ std::string describe(const Json& value)
         return "an object";
     }
     if (value.is_array()) {
-        return "an array of " + std::to_string(value.size()) + " elements";
+        return "an array of " + element_count(value.size());
     }
     return value.dump();
 }
@@ -363,7 +368,7 @@ Vec3 require_triple(const Node& node, const std::function<double(const Node&)>& 
 {
     const std::vector<Node> elements = require_array(node, "an array of 3 numbers");
     if (elements.size() != 3) {
-        refuse(node.path, "expected an array of 3 numbers, got " + std::to_string(elements.size()) + " elements");
+        refuse(node.path, "expected an array of 3 numbers, got " + element_count(elements.size()));
     }
     return {read_component(elements[0]), read_component(elements[1]), read_component(elements[2])};
 }

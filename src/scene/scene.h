@@ -104,6 +104,9 @@ struct Scene {
 
 constexpr int max_image_side = 16384;
 constexpr int max_trace_depth = 64;
+// Primitives in one top-level CSG object. The SSE tracer keeps a CSG object's span lists in
+// fixed-capacity arrays on the stack (at most max_csg_leaves + 1 spans), so the loader refuses more.
+constexpr int max_csg_leaves = 64;
 
 struct ImageSize {
     int width;

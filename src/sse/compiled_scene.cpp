@@ -1,0 +1,190 @@
+#include "sse/compiled_scene.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <type_traits>
+
+namespace twinray::sse {
+namespace {
+
+constexpr float nan = std::numeric_limits<float>::quiet_NaN();
+
+// An empty primitive for unused lanes: NaN parameters fail every ordered comparison; a box with
+// min = +∞ and max = −∞ has no inside.
+void pad(PlaneBlock& block, int lane) {
+    for (auto& row : block.normal) row[lane] = nan;
+    block.offset[lane] = nan;
+}
+void pad(SphereBlock& block, int lane) {
+    for (auto& row : block.center) row[lane] = nan;
+    block.radius[lane] = nan;
+}
+void pad(CylinderBlock& block, int lane) {
+    for (auto& row : block.base) row[lane] = nan;
+    for (auto& row : block.axis) row[lane] = nan;
+    block.height[lane] = nan;
+    block.radius[lane] = nan;
+}
+void pad(BoxBlock& block, int lane) {
+    for (auto& row : block.min) row[lane] = std::numeric_limits<float>::infinity();
+    for (auto& row : block.max) row[lane] = -std::numeric_limits<float>::infinity();
+}
+
+void set_lane(PlaneBlock& block, int lane, const scene::Plane& plane) {
+    for (int axis = 0; axis < 3; ++axis) block.normal[axis][lane] = static_cast<float>(plane.normal[axis]);
+    block.offset[lane] = static_cast<float>(plane.offset);
+}
+void set_lane(SphereBlock& block, int lane, const scene::Sphere& sphere) {
+    for (int axis = 0; axis < 3; ++axis) block.center[axis][lane] = static_cast<float>(sphere.center[axis]);
+    block.radius[lane] = static_cast<float>(sphere.radius);
+}
+// Axis and height are derived in float from the float end points, as the reference<float> does.
+void set_lane(CylinderBlock& block, int lane, const scene::Cylinder& cylinder) {
+    Vec3 base(cylinder.base);
+    Vec3 along = Vec3(cylinder.cap) - base;
+    Vec3 axis = normalize(along);
+    for (int i = 0; i < 3; ++i) {
+        block.base[i][lane] = base[i];
+        block.axis[i][lane] = axis[i];
+    }
+    block.height[lane] = length(along);
+    block.radius[lane] = static_cast<float>(cylinder.radius);
+}
+void set_lane(BoxBlock& block, int lane, const scene::Box& box) {
+    for (int axis = 0; axis < 3; ++axis) {
+        block.min[axis][lane] = static_cast<float>(box.min[axis]);
+        block.max[axis][lane] = static_cast<float>(box.max[axis]);
+    }
+}
+
+template <typename Block, typename Shape>
+void append(BlockList<Block>& list, const Shape& shape, std::int32_t id, float transmission) {
+    int lane = list.count % 4;
+    if (lane == 0) {
+        Block block;
+        for (int i = 0; i < 4; ++i) pad(block, i);
+        list.blocks.push_back(block);
+        list.ids.push_back({{-1, -1, -1, -1}});
+        list.transmission.push_back({{1, 1, 1, 1}});
+    }
+    set_lane(list.blocks.back(), lane, shape);
+    list.ids.back().value[lane] = id;
+    list.transmission.back().value[lane] = transmission;
+    ++list.count;
+}
+
+LeafInfo leaf_info(const scene::Object& object) {
+    LeafInfo info{};
+    info.material = object.material;
+    std::visit(
+        [&](const auto& shape) {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<S, scene::Plane>) {
+                info.kind = LeafKind::plane;
+                info.direction = Vec3(shape.normal);
+            } else if constexpr (std::is_same_v<S, scene::Sphere>) {
+                info.kind = LeafKind::sphere;
+                info.position = Vec3(shape.center);
+            } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
+                info.kind = LeafKind::cylinder;
+                info.position = Vec3(shape.base);
+                info.direction = normalize(Vec3(shape.cap) - info.position);
+            } else if constexpr (std::is_same_v<S, scene::Box>) {
+                info.kind = LeafKind::box;
+            }
+        },
+        object.shape);
+    return info;
+}
+
+// Appends a primitive to the lists of its type: at top level, or inside one CSG object.
+template <typename Lists>
+void append_primitive(Lists& lists, const scene::Object& object, std::int32_t id, float transmission) {
+    std::visit(
+        [&](const auto& shape) {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<S, scene::Plane>) append(lists.planes, shape, id, transmission);
+            else if constexpr (std::is_same_v<S, scene::Sphere>) append(lists.spheres, shape, id, transmission);
+            else if constexpr (std::is_same_v<S, scene::Cylinder>) append(lists.cylinders, shape, id, transmission);
+            else if constexpr (std::is_same_v<S, scene::Box>) append(lists.boxes, shape, id, transmission);
+        },
+        object.shape);
+}
+
+class Compiler {
+public:
+    explicit Compiler(const scene::Scene& scene) : scene_(scene) {}
+
+    CompiledScene run() {
+        CompiledScene out;
+        for (const scene::Material& m : scene_.materials) {
+            out.materials.push_back({Color(m.color), static_cast<float>(m.ambient), static_cast<float>(m.diffuse),
+                                     static_cast<float>(m.phong), static_cast<float>(m.phong_size),
+                                     static_cast<float>(m.reflection), static_cast<float>(m.transmission),
+                                     static_cast<float>(m.ior)});
+        }
+        out.leaves.resize(scene_.leaf_paths.size());
+        for (const scene::Object& object : scene_.objects) {
+            if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
+                CsgObject compiled;
+                add_csg_node(compiled, *csg, out);
+                out.csg_objects.push_back(std::move(compiled));
+            } else {
+                out.leaves[object.leaf] = leaf_info(object);
+                append_primitive(out, object, object.leaf, transmission_of(object));
+            }
+        }
+        for (const scene::Light& light : scene_.lights) {
+            out.lights.push_back({Vec3(light.position), Color(light.color)});
+        }
+        out.background = Color(scene_.background);
+        out.ambient_light = Color(scene_.ambient_light);
+        out.max_depth = scene_.max_depth;
+        out.any_transparency = scene_.has_transparency();
+
+        out.eye = Vec3(scene_.camera.eye);
+        out.forward = normalize(Vec3(scene_.camera.look_at) - out.eye);
+        out.right = normalize(cross(out.forward, Vec3(scene_.camera.up)));
+        out.up = cross(out.right, out.forward);
+        out.half_width = static_cast<float>(std::tan(scene_.camera.fov_deg * std::numbers::pi / 360.0));
+        return out;
+    }
+
+private:
+    float transmission_of(const scene::Object& object) const {
+        return static_cast<float>(scene_.materials[object.material].transmission);
+    }
+
+    // Nodes are laid out so that a node's children are contiguous in children_of.
+    int add_csg_node(CsgObject& compiled, const scene::Csg& csg, CompiledScene& out) {
+        int index = static_cast<int>(compiled.nodes.size());
+        compiled.nodes.push_back({csg.op, 0, static_cast<int>(csg.children.size()), -1});
+        std::vector<int> children;
+        for (const scene::Object& child : csg.children) {
+            if (const auto* inner = std::get_if<scene::Csg>(&child.shape)) {
+                children.push_back(add_csg_node(compiled, *inner, out));
+            } else {
+                int slot = static_cast<int>(compiled.slot_leaf.size());
+                compiled.slot_leaf.push_back(child.leaf);
+                out.leaves[child.leaf] = leaf_info(child);
+                append_primitive(compiled, child, slot, transmission_of(child));
+                children.push_back(static_cast<int>(compiled.nodes.size()));
+                compiled.nodes.push_back({scene::CsgOp::union_, 0, 0, slot});
+            }
+        }
+        compiled.nodes[index].first_child = static_cast<int>(compiled.children_of.size());
+        compiled.children_of.insert(compiled.children_of.end(), children.begin(), children.end());
+        return index;
+    }
+
+    const scene::Scene& scene_;
+};
+
+}  // namespace
+
+CompiledScene compile(const scene::Scene& scene) {
+    return Compiler(scene).run();
+}
+
+}  // namespace twinray::sse

@@ -1,0 +1,79 @@
+// Solid capped cylinder, four at a time.
+#pragma once
+
+#include "sse/span4.h"
+
+namespace twinray::sse {
+
+struct alignas(16) CylinderBlock {
+    float base[3][4];
+    float axis[3][4];  // unit, base towards cap
+    float height[4];
+    float radius[4];
+};
+
+// Face codes.
+constexpr int cylinder_side = 0;
+constexpr int cylinder_base_cap = 1;  // outward normal −axis
+constexpr int cylinder_top_cap = 2;   // outward normal +axis
+
+// Same formulas as the reference (reference/cylinder.h): the quadratic on the components perpendicular
+// to the axis with the cancellation-free discriminant A·r² − |f⊥ × d⊥|², roots q/A and c/q, clipped to
+// the slab between the caps. Each lane has its own axis, so "parallel to the axis" is a per-lane select.
+inline Span4 spans(const CylinderBlock& block, const Ray4& ray) {
+    vfloat4 axis[3], f[3], f_perp[3], d_perp[3];
+    for (int i = 0; i < 3; ++i) {
+        axis[i] = vfloat4::load(block.axis[i]);
+        f[i] = ray.origin[i] - vfloat4::load(block.base[i]);
+    }
+    vfloat4 axial_origin = dot3(f, axis);
+    vfloat4 axial_direction = dot3(ray.direction, axis);
+    for (int i = 0; i < 3; ++i) {
+        f_perp[i] = f[i] - axial_origin * axis[i];
+        d_perp[i] = ray.direction[i] - axial_direction * axis[i];
+    }
+    vfloat4 radius = vfloat4::load(block.radius);
+    vfloat4 r2 = radius * radius;
+    vfloat4 a = dot3(d_perp, d_perp);
+    vfloat4 c = dot3(f_perp, f_perp) - r2;
+    vfloat4 moment[3] = {f_perp[1] * d_perp[2] - f_perp[2] * d_perp[1], f_perp[2] * d_perp[0] - f_perp[0] * d_perp[2],
+                         f_perp[0] * d_perp[1] - f_perp[1] * d_perp[0]};
+    vfloat4 discriminant = a * r2 - dot3(moment, moment);
+    vfloat4 zero(0.0f);
+    vbool4 along_axis = a == zero;
+    vbool4 side_valid = select_mask(along_axis, c < zero, discriminant >= zero);
+    vfloat4 height = vfloat4::load(block.height);
+    vbool4 slab_valid = (axial_direction > zero) | (axial_direction < zero) |
+                        ((axial_origin > zero) & (axial_origin < height));
+    Span4 span;
+    span.valid = side_valid & slab_valid;
+    if (none(span.valid)) {
+        return span;
+    }
+    vfloat4 b = dot3(f_perp, d_perp);
+    vfloat4 q = -b - copysign(sqrt(max(discriminant, zero)), b);
+    vfloat4 t0 = q / a;
+    vfloat4 t1 = select(q == zero, zero, c / q);
+    vfloat4 side_near = select(along_axis, vfloat4(-infinity), min(t0, t1));
+    vfloat4 side_far = select(along_axis, vfloat4(infinity), max(t0, t1));
+
+    vbool4 parallel_to_caps = axial_direction == zero;
+    vfloat4 t_base = -axial_origin / axial_direction;
+    vfloat4 t_top = (height - axial_origin) / axial_direction;
+    vbool4 towards_top = axial_direction > zero;
+    vfloat4 slab_near = select(parallel_to_caps, vfloat4(-infinity), select(towards_top, t_base, t_top));
+    vfloat4 slab_far = select(parallel_to_caps, vfloat4(infinity), select(towards_top, t_top, t_base));
+    vint4 near_cap = select(towards_top, vint4(cylinder_base_cap), vint4(cylinder_top_cap));
+    vint4 far_cap = select(towards_top, vint4(cylinder_top_cap), vint4(cylinder_base_cap));
+
+    vbool4 enter_by_cap = slab_near > side_near;
+    vbool4 exit_by_cap = slab_far < side_far;
+    span.enter = select(enter_by_cap, slab_near, side_near);
+    span.exit = select(exit_by_cap, slab_far, side_far);
+    span.enter_face = select(enter_by_cap, near_cap, vint4(cylinder_side));
+    span.exit_face = select(exit_by_cap, far_cap, vint4(cylinder_side));
+    span.valid = span.valid & (span.enter <= span.exit);
+    return span;
+}
+
+}  // namespace twinray::sse

@@ -1,0 +1,42 @@
+// Sphere |p − c| = r, four at a time.
+#pragma once
+
+#include "sse/span4.h"
+
+namespace twinray::sse {
+
+struct alignas(16) SphereBlock {
+    float center[3][4];
+    float radius[4];
+};
+
+// Same formula as the reference (reference/sphere.h): with f = o − c, b = f·d,
+// Δ = r² − |f − b·d|² (no cancellation far from the sphere), q = −b − sign(b)·√Δ, t = q and c/q.
+// The division waits until some lane is known to hit (the thesis: divide only where needed).
+inline Span4 spans(const SphereBlock& block, const Ray4& ray) {
+    vfloat4 f[3], perpendicular[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        f[axis] = ray.origin[axis] - vfloat4::load(block.center[axis]);
+    }
+    vfloat4 b = dot3(f, ray.direction);
+    for (int axis = 0; axis < 3; ++axis) {
+        perpendicular[axis] = f[axis] - b * ray.direction[axis];
+    }
+    vfloat4 radius = vfloat4::load(block.radius);
+    vfloat4 r2 = radius * radius;
+    vfloat4 discriminant = r2 - dot3(perpendicular, perpendicular);
+    Span4 span;
+    span.valid = discriminant >= vfloat4(0.0f);
+    if (none(span.valid)) {
+        return span;
+    }
+    vfloat4 c = dot3(f, f) - r2;
+    vfloat4 q = -b - copysign(sqrt(max(discriminant, vfloat4(0.0f))), b);
+    vfloat4 t0 = q;
+    vfloat4 t1 = select(q == vfloat4(0.0f), vfloat4(0.0f), c / q);
+    span.enter = min(t0, t1);
+    span.exit = max(t0, t1);
+    return span;
+}
+
+}  // namespace twinray::sse

@@ -1,0 +1,54 @@
+// The optimized tracer: single precision, SSE4.1 kernels that test one ray against four primitives at
+// once, the scene compiled into flat per-type arrays. Same per-ray API as the reference tracer.
+//
+// This header is included by code built without -msse4.1 (CLI, tests, bench), so it exposes no
+// intrinsics: the compiled scene lives behind a pointer, defined in tracer.cpp. Call
+// cpu_supports_sse41() (sse/cpu.h) before constructing a Tracer.
+#pragma once
+
+#include "render/render.h"
+#include "scene/scene.h"
+#include "sse/vec3.h"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+namespace twinray::sse {
+
+// `direction` is of unit length, so t is a distance.
+struct Ray {
+    Vec3 origin;
+    Vec3 direction;
+};
+
+struct Hit {
+    float t = 0;
+    Vec3 point;
+    Vec3 normal;     // unit, facing the ray
+    int leaf = -1;   // the primitive hit (Scene::leaf_paths)
+    bool entering = false;
+};
+
+struct CompiledScene;
+
+class Tracer {
+public:
+    explicit Tracer(const scene::Scene& scene);
+    ~Tracer();
+    Tracer(const Tracer&) = delete;
+    Tracer& operator=(const Tracer&) = delete;
+
+    std::optional<Hit> intersect(const Ray& ray) const;
+    Color trace(const Ray& ray, int depth, std::uint64_t* rays = nullptr) const;
+    Ray primary_ray(int x, int y, int width, int height) const;
+
+    const CompiledScene& compiled() const { return *scene_; }
+
+private:
+    std::unique_ptr<CompiledScene> scene_;
+};
+
+RenderResult render(const scene::Scene& scene, const RenderOptions& options);
+
+}  // namespace twinray::sse

@@ -1,0 +1,136 @@
+// The twinray command line as a user meets it: exit statuses, messages, and what is (not) written.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandResult {
+    int exit_status;
+    std::string output;  // stdout and stderr together
+};
+
+CommandResult run_twinray(const std::string& arguments) {
+    std::string command = std::string(TWINRAY_BINARY) + " " + arguments + " 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (pipe == nullptr) {
+        return {-1, "popen failed"};
+    }
+    std::string output;
+    std::array<char, 4096> buffer{};
+    while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr) {
+        output += buffer.data();
+    }
+    int status = ::pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+std::string scene(const std::string& name) {
+    return std::string(TWINRAY_SOURCE_DIR) + "/scenes/" + name;
+}
+
+std::string malformed(const std::string& name) {
+    return std::string(TWINRAY_SOURCE_DIR) + "/tests/data/malformed/" + name;
+}
+
+class CliTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        folder_ = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "cli" / info->name();
+        fs::remove_all(folder_);
+        fs::create_directories(folder_);
+    }
+    std::string output(const std::string& name) const { return (folder_ / name).string(); }
+    fs::path folder_;
+};
+
+TEST_F(CliTest, HelpDescribesEverySubcommandAndExitsZero) {
+    CommandResult result = run_twinray("--help");
+    EXPECT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_NE(result.output.find("render"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("Exit status"), std::string::npos) << result.output;
+}
+
+TEST_F(CliTest, RenderHelpListsItsOptionsAndTracers) {
+    CommandResult result = run_twinray("render --help");
+    EXPECT_EQ(result.exit_status, 0) << result.output;
+    for (const char* option : {"--output", "--width", "--height", "--tracer", "--threads", "reference"}) {
+        EXPECT_NE(result.output.find(option), std::string::npos) << option << " missing from:\n" << result.output;
+    }
+}
+
+TEST_F(CliTest, RenderWritesThePngAndReportsWhatItDid) {
+    CommandResult result = run_twinray("render " + scene("spheres.json") + " -o " + output("s.png"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_TRUE(fs::exists(output("s.png")));
+    for (const char* line : {"resolution:  320 x 240", "rays traced:", "wall time:", "Mrays/s"}) {
+        EXPECT_NE(result.output.find(line), std::string::npos) << line << " missing from:\n" << result.output;
+    }
+}
+
+TEST_F(CliTest, RenderWritesExrWhenAskedByExtension) {
+    CommandResult result = run_twinray("render " + scene("planes.json") + " --width 40 -o " + output("p.exr"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_GT(fs::file_size(output("p.exr")), 0u);
+}
+
+TEST_F(CliTest, WidthAloneKeepsTheScenesAspectRatio) {
+    CommandResult result = run_twinray("render " + scene("spheres.json") + " --width 161 -o " + output("s.png"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    // 161 * 240 / 320 = 120.75, rounded to the nearest integer.
+    EXPECT_NE(result.output.find("resolution:  161 x 121"), std::string::npos) << result.output;
+}
+
+TEST_F(CliTest, InvalidSceneIsRefusedWithItsJsonPathStatusTwoAndNothingWritten) {
+    CommandResult result = run_twinray("render " + malformed("sphere_radius_negative.json") + " -o " + output("bad.png"));
+    EXPECT_EQ(result.exit_status, 2) << result.output;
+    EXPECT_NE(result.output.find("sphere_radius_negative.json"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("objects[0].radius"), std::string::npos) << result.output;
+    EXPECT_TRUE(fs::is_empty(folder_)) << "a refused scene must leave nothing behind";
+}
+
+TEST_F(CliTest, MissingSceneFileIsRefusedWithStatusTwo) {
+    CommandResult result = run_twinray("render " + output("no_such_scene.json") + " -o " + output("x.png"));
+    EXPECT_EQ(result.exit_status, 2) << result.output;
+    EXPECT_NE(result.output.find("no_such_scene.json"), std::string::npos) << result.output;
+    EXPECT_TRUE(fs::is_empty(folder_));
+}
+
+TEST_F(CliTest, UnsupportedOutputFormatIsAUsageErrorBeforeRendering) {
+    CommandResult result = run_twinray("render " + scene("spheres.json") + " -o " + output("s.jpg"));
+    EXPECT_EQ(result.exit_status, 1) << result.output;
+    EXPECT_NE(result.output.find(".png"), std::string::npos) << "the message should say what is allowed:\n" << result.output;
+    EXPECT_TRUE(fs::is_empty(folder_));
+}
+
+TEST_F(CliTest, OutputIntoAMissingFolderIsRefusedWithStatusThree) {
+    CommandResult result = run_twinray("render " + scene("spheres.json") + " -o " + output("missing/s.png"));
+    EXPECT_EQ(result.exit_status, 3) << result.output;
+    EXPECT_NE(result.output.find("does not exist"), std::string::npos) << result.output;
+}
+
+TEST_F(CliTest, OutOfRangeSizeAndUnknownTracerAreUsageErrors) {
+    EXPECT_EQ(run_twinray("render " + scene("spheres.json") + " --width 0 -o " + output("a.png")).exit_status, 1);
+    EXPECT_EQ(run_twinray("render " + scene("spheres.json") + " --height 16385 -o " + output("b.png")).exit_status, 1);
+    EXPECT_EQ(run_twinray("render " + scene("spheres.json") + " --tracer nonsense -o " + output("c.png")).exit_status, 1);
+    EXPECT_TRUE(fs::is_empty(folder_));
+}
+
+TEST_F(CliTest, ReplacingAnExistingImageLeavesNoTemporaryFileBehind) {
+    ASSERT_EQ(run_twinray("render " + scene("spheres.json") + " --width 32 -o " + output("s.png")).exit_status, 0);
+    ASSERT_EQ(run_twinray("render " + scene("spheres.json") + " --width 48 -o " + output("s.png")).exit_status, 0);
+    std::size_t files = 0;
+    for ([[maybe_unused]] const auto& entry : fs::directory_iterator(folder_)) {
+        ++files;
+    }
+    EXPECT_EQ(files, 1u);
+}
+
+}  // namespace

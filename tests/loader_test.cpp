@@ -1,0 +1,621 @@
+// The scene loader against the contract (SCENES.md): every refusal rule has a malformed file that breaks
+// it and nothing else, every shipped scene loads, and the values the loader fills in (defaults, the
+// normalised plane normal, material inheritance, leaf numbering, the image size) are the documented ones.
+#include "scene/loader.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <ostream>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace twinray::scene {
+namespace {
+
+const std::filesystem::path source_dir = TWINRAY_SOURCE_DIR;
+const std::filesystem::path malformed_dir = source_dir / "tests" / "data" / "malformed";
+const std::filesystem::path scenes_dir = source_dir / "scenes";
+
+std::string repeated(std::string_view text, int count)
+{
+    std::string result;
+    for (int i = 0; i < count; ++i) {
+        result += text;
+    }
+    return result;
+}
+
+// gtest parameter names allow only letters, digits and underscores.
+std::string test_name_from(const std::filesystem::path& file)
+{
+    std::string name = file.stem().string();
+    std::replace_if(name.begin(), name.end(), [](unsigned char c) { return !std::isalnum(c); }, '_');
+    return name;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Refusals: one malformed file per rule.
+
+struct Malformed {
+    std::string file;
+    std::string location;
+    std::string problem_fragment;
+};
+
+void PrintTo(const Malformed& malformed, std::ostream* out) { *out << malformed.file; }
+
+const std::vector<Malformed> malformed_scenes = {
+    // JSON syntax: the location is where the parser stopped, counted from 1.
+    {"syntax_truncated.json", "line 5, column 1", "unexpected end of input"},
+    {"syntax_trailing_garbage.json", "line 7, column 1", "expected end of input"},
+    {"syntax_single_quotes.json", "line 4, column 7", "invalid literal"},
+    {"syntax_comment.json", "line 3, column 3", "invalid literal"},
+    {"syntax_empty.json", "line 1, column 1", "unexpected end of input"},
+    {"syntax_not_utf8.json", "line 3, column 23", "ill-formed UTF-8"},
+    // Numbers are finite: JSON cannot spell NaN, and 1e999 overflows a double.
+    {"syntax_nan.json", "line 4, column 56", "invalid literal"},
+    {"syntax_number_overflow.json", "line 4, column 60", "numbers must be finite"},
+    {"duplicate_key.json", "objects[0].radius", "duplicate key \"radius\""},
+    {"duplicate_material_name.json", "materials.glass", "duplicate key \"glass\""},
+    {"json_nested_too_deep.json", "background" + repeated("[0]", 199), "nested deeper than 200 levels"},
+    {"root_not_object.json", "(root)", "expected an object, got an array of 1 element"},
+    // The top level.
+    {"unknown_top_level_key.json", "backgroud", "unknown key \"backgroud\"; allowed keys for a scene: camera, objects"},
+    {"format_wrong_version.json", "format", "must be \"twinray-scene/1\", got \"twinray-scene/2\""},
+    {"camera_missing.json", "camera", "missing required key \"camera\""},
+    {"objects_missing.json", "objects", "missing required key \"objects\""},
+    {"objects_not_array.json", "objects", "expected an array of objects, got an object"},
+    // image: integers 1..16384; 640.5 is not an integer, true is not a number.
+    {"image_not_object.json", "image", "expected an object"},
+    {"image_unknown_key.json", "image.widht", "unknown key \"widht\"; allowed keys for image: width, height"},
+    {"image_width_zero.json", "image.width", "must be an integer from 1 to 16384, got 0"},
+    {"image_height_too_large.json", "image.height", "must be an integer from 1 to 16384, got 16385"},
+    {"image_width_fractional.json", "image.width", "must be an integer from 1 to 16384, got 640.5"},
+    {"image_height_boolean.json", "image.height", "expected a number, got true"},
+    // camera.
+    {"camera_unknown_key.json", "camera.fov", "allowed keys for the camera: eye, look_at, up, fov_deg"},
+    {"camera_missing_eye.json", "camera.eye", "missing required key \"eye\""},
+    {"camera_missing_look_at.json", "camera.look_at", "missing required key \"look_at\""},
+    {"camera_eye_equals_look_at.json", "camera.look_at", "must differ from eye"},
+    {"camera_up_parallel.json", "camera.up", "is parallel to the view direction"},
+    {"camera_default_up_parallel.json", "camera.up", "the default up [0, 1, 0] is parallel"},
+    {"camera_fov_zero.json", "camera.fov_deg", "must be > 0 and < 180, got 0"},
+    {"camera_fov_180.json", "camera.fov_deg", "must be > 0 and < 180, got 180"},
+    {"camera_eye_two_numbers.json", "camera.eye", "expected an array of 3 numbers, got 2 elements"},
+    {"camera_look_at_string_component.json", "camera.look_at[1]", "expected a number, got \"1\""},
+    // Scene-wide values.
+    {"background_negative_component.json", "background[2]", "must be >= 0, got -0.5"},
+    {"ambient_light_not_array.json", "ambient_light", "expected an array of 3 numbers, got 1"},
+    {"max_depth_zero.json", "max_depth", "must be an integer from 1 to 64, got 0"},
+    {"max_depth_too_large.json", "max_depth", "must be an integer from 1 to 64, got 65"},
+    {"max_depth_fractional.json", "max_depth", "must be an integer from 1 to 64, got 2.5"},
+    {"max_depth_string.json", "max_depth", "expected a number, got \"5\""},
+    // materials.
+    {"materials_not_object.json", "materials", "expected an object"},
+    {"material_not_object.json", "materials.glass", "expected an object, got 1.5"},
+    {"material_unknown_key.json", "materials.glass.refraction",
+     "unknown key \"refraction\"; allowed keys for a material: color, ambient, diffuse, phong, phong_size, "
+     "reflection, transmission, ior"},
+    {"material_ambient_negative.json", "materials.matte.ambient", "must be >= 0, got -0.25"},
+    {"material_diffuse_negative.json", "materials.matte.diffuse", "must be >= 0, got -0.25"},
+    {"material_phong_negative.json", "materials.matte.phong", "must be >= 0, got -0.25"},
+    {"material_reflection_negative.json", "materials.matte.reflection", "must be >= 0, got -0.25"},
+    {"material_transmission_negative.json", "materials.matte.transmission", "must be >= 0, got -0.25"},
+    {"material_phong_size_zero.json", "materials.shiny.phong_size", "must be > 0, got 0"},
+    {"material_ior_negative.json", "materials.glass.ior", "must be > 0, got -1.5"},
+    {"material_color_negative.json", "materials.red.color[1]", "must be >= 0, got -0.1"},
+    {"material_color_two_numbers.json", "materials.red.color", "expected an array of 3 numbers, got 2 elements"},
+    // lights.
+    {"lights_not_array.json", "lights", "expected an array of lights, got an object"},
+    {"light_not_object.json", "lights[0]", "expected an object, got an array of 3 elements"},
+    {"light_missing_position.json", "lights[1].position", "missing required key \"position\""},
+    {"light_unknown_key.json", "lights[0].intensity", "allowed keys for a light: position, color"},
+    {"light_color_negative.json", "lights[0].color[0]", "must be >= 0, got -1"},
+    {"light_position_four_numbers.json", "lights[0].position", "expected an array of 3 numbers, got 4 elements"},
+    // objects: a type, exactly its own keys, valid values.
+    {"object_not_object.json", "objects[1]", "expected an object, got \"sphere\""},
+    {"object_missing_type.json", "objects[0].type",
+     "missing required key \"type\"; allowed types: plane, sphere, cylinder, box, union, intersection, difference"},
+    {"object_unknown_type.json", "objects[0].type", "unknown object type \"torus\"; allowed types: plane"},
+    {"object_type_not_string.json", "objects[0].type", "expected a string, got 2"},
+    {"sphere_unknown_key.json", "objects[0].radus",
+     "unknown key \"radus\"; allowed keys for a sphere: type, center, radius, material"},
+    {"sphere_with_plane_key.json", "objects[0].normal", "unknown key \"normal\"; allowed keys for a sphere"},
+    {"sphere_missing_radius.json", "objects[2].radius",
+     "missing required key \"radius\"; required keys for a sphere: type, center, radius"},
+    {"sphere_radius_negative.json", "objects[0].radius", "must be > 0, got -1"},
+    {"sphere_radius_zero.json", "objects[0].radius", "must be > 0, got 0"},
+    {"sphere_center_not_array.json", "objects[0].center", "expected an array of 3 numbers, got \"origin\""},
+    {"plane_normal_zero.json", "objects[0].normal", "must be non-zero"},
+    {"plane_missing_offset.json", "objects[0].offset", "missing required key \"offset\""},
+    {"cylinder_base_equals_cap.json", "objects[0].cap", "must differ from base, both are [1, 0, 2]"},
+    {"cylinder_radius_zero.json", "objects[0].radius", "must be > 0, got 0"},
+    {"cylinder_missing_cap.json", "objects[0].cap", "missing required key \"cap\""},
+    {"box_min_equals_max_on_y.json", "objects[0].max", "on y min is 1 and max is 1"},
+    {"box_min_above_max_on_z.json", "objects[0].max", "on z min is 3 and max is 2"},
+    // CSG: at least two children, nesting (with paths through it) up to 64 levels.
+    {"csg_missing_children.json", "objects[0].children", "missing required key \"children\""},
+    {"csg_one_child.json", "objects[0].children", "expected at least 2 objects, got 1"},
+    {"csg_children_not_array.json", "objects[0].children", "expected an array of objects, got an object"},
+    {"csg_unknown_key_on_node.json", "objects[0].radius",
+     "unknown key \"radius\"; allowed keys for a difference: type, children, material"},
+    {"csg_nested_bad_radius.json", "objects[1].children[1].children[0].radius", "must be > 0, got -2"},
+    {"csg_nested_unknown_key.json", "objects[0].children[1].colour", "allowed keys for a box: type, min, max, material"},
+    {"csg_nested_too_deep.json", "objects[0]" + repeated(".children[0]", 64), "nested deeper than 64 levels"},
+    // Material names must exist in materials.
+    {"material_name_unknown.json", "objects[1].material", "unknown material \"glas\"; materials defined: floor, glass"},
+    {"material_name_unknown_nested.json", "objects[0].children[1].material", "unknown material \"chrome\""},
+    {"material_name_without_materials.json", "objects[0].material", "the scene defines no materials"},
+    {"material_name_not_string.json", "objects[0].material", "expected a string, got 1"},
+};
+
+class MalformedScene : public ::testing::TestWithParam<Malformed> {};
+
+TEST_P(MalformedScene, IsRefusedWithItsPathAndWhatIsAllowed)
+{
+    const Malformed& expected = GetParam();
+    const std::filesystem::path file = malformed_dir / expected.file;
+    try {
+        load_scene(file);
+        ADD_FAILURE() << file << " was accepted";
+    } catch (const SceneError& error) {
+        EXPECT_EQ(error.location(), expected.location) << error.what();
+        EXPECT_NE(error.problem().find(expected.problem_fragment), std::string::npos)
+            << "expected the problem to contain: " << expected.problem_fragment << "\nactual message: " << error.what();
+        EXPECT_TRUE(std::string_view(error.what()).starts_with(file.string() + ": ")) << error.what();
+        EXPECT_EQ(error.file(), file.string());
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(OneRuleBrokenPerFile, MalformedScene, ::testing::ValuesIn(malformed_scenes),
+                         [](const auto& test) { return test_name_from(test.param.file); });
+
+TEST(MalformedSceneTable, CoversEveryFileInTheMalformedDirectory)
+{
+    std::set<std::string> listed;
+    for (const Malformed& malformed : malformed_scenes) {
+        listed.insert(malformed.file);
+    }
+    for (const auto& entry : std::filesystem::directory_iterator(malformed_dir)) {
+        EXPECT_TRUE(listed.contains(entry.path().filename().string()))
+            << entry.path() << " has no row in malformed_scenes, so nothing checks why it is refused";
+    }
+    EXPECT_EQ(listed.size(), malformed_scenes.size()) << "a file is listed twice";
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Every shipped scene loads.
+
+std::vector<std::filesystem::path> shipped_scenes()
+{
+    std::vector<std::filesystem::path> files;
+    std::error_code missing_directory;
+    for (const auto& entry : std::filesystem::directory_iterator(scenes_dir, missing_directory)) {
+        if (entry.path().extension() == ".json") {
+            files.push_back(entry.path());
+        }
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+class ShippedScene : public ::testing::TestWithParam<std::filesystem::path> {};
+
+TEST_P(ShippedScene, Loads)
+{
+    try {
+        load_scene(GetParam());
+    } catch (const SceneError& error) {
+        ADD_FAILURE() << error.what();
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(ScenesDirectory, ShippedScene, ::testing::ValuesIn(shipped_scenes()),
+                         [](const auto& test) { return test_name_from(test.param); });
+// An empty directory instantiates nothing; ScenesDirectoryIsNotEmpty below reports that instead.
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(ShippedScene);
+
+TEST(ShippedScenes, ScenesDirectoryIsNotEmpty)
+{
+    EXPECT_FALSE(shipped_scenes().empty())
+        << "no scenes/*.json in " << scenes_dir << ": the test that every shipped scene loads has nothing to check";
+}
+
+// ---------------------------------------------------------------------------------------------------
+// What the loader fills in.
+
+Scene parse(std::string_view text) { return parse_scene(text, "<test>"); }
+
+constexpr std::string_view camera_block = R"("camera": { "eye": [0, 1, 5], "look_at": [0, 1, 0] })";
+
+Scene parse_with_camera(std::string_view blocks)
+{
+    return parse("{ " + std::string(camera_block) + ", " + std::string(blocks) + " }");
+}
+
+void expect_default_material(const Material& material)
+{
+    EXPECT_EQ(material.color, (Vec3{1, 1, 1}));
+    EXPECT_EQ(material.ambient, 0.1);
+    EXPECT_EQ(material.diffuse, 0.6);
+    EXPECT_EQ(material.phong, 0);
+    EXPECT_EQ(material.phong_size, 40);
+    EXPECT_EQ(material.reflection, 0);
+    EXPECT_EQ(material.transmission, 0);
+    EXPECT_EQ(material.ior, 1);
+}
+
+TEST(SceneLoader, MinimalSceneGetsEveryDefault)
+{
+    const Scene scene = parse_with_camera(R"("objects": [])");
+    EXPECT_EQ(scene.width, 320);
+    EXPECT_EQ(scene.height, 240);
+    EXPECT_EQ(scene.camera.eye, (Vec3{0, 1, 5}));
+    EXPECT_EQ(scene.camera.look_at, (Vec3{0, 1, 0}));
+    EXPECT_EQ(scene.camera.up, (Vec3{0, 1, 0}));
+    EXPECT_EQ(scene.camera.fov_deg, 50);
+    EXPECT_EQ(scene.background, (Vec3{0, 0, 0}));
+    EXPECT_EQ(scene.ambient_light, (Vec3{1, 1, 1}));
+    EXPECT_EQ(scene.max_depth, 5);
+    ASSERT_EQ(scene.materials.size(), 1u);
+    EXPECT_EQ(scene.material_names, std::vector<std::string>{"(default)"});
+    expect_default_material(scene.materials[0]);
+    EXPECT_TRUE(scene.lights.empty());
+    EXPECT_TRUE(scene.objects.empty());
+    EXPECT_TRUE(scene.leaf_paths.empty());
+}
+
+TEST(SceneLoader, OmittedMaterialAndLightKeysTakeTheirDefaults)
+{
+    const Scene scene = parse_with_camera(R"("materials": { "plain": {} },
+                                             "lights": [ { "position": [1, 2, 3] } ], "objects": [])");
+    ASSERT_EQ(scene.materials.size(), 2u);
+    expect_default_material(scene.materials[1]);
+    ASSERT_EQ(scene.lights.size(), 1u);
+    EXPECT_EQ(scene.lights[0].position, (Vec3{1, 2, 3}));
+    EXPECT_EQ(scene.lights[0].color, (Vec3{1, 1, 1}));
+}
+
+TEST(SceneLoader, GivenValuesReplaceTheDefaults)
+{
+    const Scene scene = parse(R"({
+        "format": "twinray-scene/1",
+        "image": { "width": 64, "height": 48 },
+        "camera": { "eye": [1, 2, 3], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30 },
+        "background": [0.1, 0.2, 0.3], "ambient_light": [0.5, 0.5, 0.5], "max_depth": 12,
+        "materials": { "m": { "color": [0.5, 0.25, 0], "ambient": 0.2, "diffuse": 0.7, "phong": 0.3,
+                              "phong_size": 20, "reflection": 0.4, "transmission": 0.5, "ior": 1.33 } },
+        "lights": [ { "position": [5, 8, -6], "color": [0.5, 1, 2] } ],
+        "objects": [] })");
+    EXPECT_EQ(scene.width, 64);
+    EXPECT_EQ(scene.height, 48);
+    EXPECT_EQ(scene.camera.up, (Vec3{0, 0, 1}));
+    EXPECT_EQ(scene.camera.fov_deg, 30);
+    EXPECT_EQ(scene.background, (Vec3{0.1, 0.2, 0.3}));
+    EXPECT_EQ(scene.ambient_light, (Vec3{0.5, 0.5, 0.5}));
+    EXPECT_EQ(scene.max_depth, 12);
+    const Material& m = scene.materials.at(1);
+    EXPECT_EQ(m.color, (Vec3{0.5, 0.25, 0}));
+    EXPECT_EQ(m.ambient, 0.2);
+    EXPECT_EQ(m.diffuse, 0.7);
+    EXPECT_EQ(m.phong, 0.3);
+    EXPECT_EQ(m.phong_size, 20);
+    EXPECT_EQ(m.reflection, 0.4);
+    EXPECT_EQ(m.transmission, 0.5);
+    EXPECT_EQ(m.ior, 1.33);
+    EXPECT_EQ(scene.lights.at(0).color, (Vec3{0.5, 1, 2}));
+}
+
+TEST(SceneLoader, IntegersWrittenWithAZeroFractionAreAccepted)
+{
+    const Scene scene = parse_with_camera(R"("image": { "width": 640.0, "height": 4.8e2 }, "max_depth": 5.0,
+                                             "objects": [])");
+    EXPECT_EQ(scene.width, 640);
+    EXPECT_EQ(scene.height, 480);
+    EXPECT_EQ(scene.max_depth, 5);
+}
+
+TEST(SceneLoader, RangeLimitsThemselvesAreAccepted)
+{
+    const Scene scene = parse_with_camera(R"("image": { "width": 1, "height": 16384 }, "max_depth": 64,
+                                             "materials": { "black": { "color": [0, 0, 0], "ambient": 0 } },
+                                             "objects": [])");
+    EXPECT_EQ(scene.width, 1);
+    EXPECT_EQ(scene.height, 16384);
+    EXPECT_EQ(scene.max_depth, 64);
+}
+
+TEST(SceneLoader, PlaneNormalIsNormalisedAndOffsetKept)
+{
+    const Scene scene = parse_with_camera(R"("objects": [
+        { "type": "plane", "normal": [0, 2, 0], "offset": 3 },
+        { "type": "plane", "normal": [3, 0, -4], "offset": -1.5 },
+        { "type": "plane", "normal": [1e300, 0, 1e300], "offset": 0 } ])");
+    const auto& upward = std::get<Plane>(scene.objects.at(0).shape);
+    EXPECT_EQ(upward.normal, (Vec3{0, 1, 0}));
+    EXPECT_EQ(upward.offset, 3);
+    const auto& slanted = std::get<Plane>(scene.objects.at(1).shape);
+    EXPECT_DOUBLE_EQ(slanted.normal[0], 0.6);
+    EXPECT_EQ(slanted.normal[1], 0);
+    EXPECT_DOUBLE_EQ(slanted.normal[2], -0.8);
+    EXPECT_EQ(slanted.offset, -1.5);
+    // Squaring 1e300 would overflow; the unit normal must still come out.
+    const auto& huge = std::get<Plane>(scene.objects.at(2).shape);
+    EXPECT_DOUBLE_EQ(huge.normal[0], std::sqrt(0.5));
+    EXPECT_DOUBLE_EQ(huge.normal[2], std::sqrt(0.5));
+}
+
+TEST(SceneLoader, PrimitivesKeepTheirValues)
+{
+    const Scene scene = parse_with_camera(R"("objects": [
+        { "type": "sphere", "center": [1, 2, 3], "radius": 0.5 },
+        { "type": "cylinder", "base": [0, 0, 0], "cap": [0, 2, 0], "radius": 0.25 },
+        { "type": "box", "min": [-1, -2, -3], "max": [1, 2, 3] } ])");
+    const auto& sphere = std::get<Sphere>(scene.objects.at(0).shape);
+    EXPECT_EQ(sphere.center, (Vec3{1, 2, 3}));
+    EXPECT_EQ(sphere.radius, 0.5);
+    const auto& cylinder = std::get<Cylinder>(scene.objects.at(1).shape);
+    EXPECT_EQ(cylinder.base, (Vec3{0, 0, 0}));
+    EXPECT_EQ(cylinder.cap, (Vec3{0, 2, 0}));
+    EXPECT_EQ(cylinder.radius, 0.25);
+    const auto& box = std::get<Box>(scene.objects.at(2).shape);
+    EXPECT_EQ(box.min, (Vec3{-1, -2, -3}));
+    EXPECT_EQ(box.max, (Vec3{1, 2, 3}));
+}
+
+TEST(SceneLoader, NamedMaterialsFollowTheDefaultInFileOrder)
+{
+    const Scene scene = parse_with_camera(R"("materials": { "zinc": { "diffuse": 0.2 }, "amber": { "diffuse": 0.9 } },
+                                             "objects": [])");
+    EXPECT_EQ(scene.material_names, (std::vector<std::string>{"(default)", "zinc", "amber"}));
+    EXPECT_EQ(scene.materials.at(1).diffuse, 0.2);
+    EXPECT_EQ(scene.materials.at(2).diffuse, 0.9);
+}
+
+// Leaves in document order:            material, and why:
+//   0 objects[0]                        default (nothing names one)
+//   1 objects[1].children[0]            b, its own
+//   2 objects[1].children[1].children[0]                 a, from the union two levels up
+//   3 objects[1].children[1].children[1].children[0]     c, from the difference just above
+//   4 objects[1].children[1].children[1].children[1]     a, its own, overriding the difference's c
+//   5 objects[2]                        c, its own
+constexpr std::string_view nested_csg_scene = R"({
+    "camera": { "eye": [0, 1, 5], "look_at": [0, 1, 0] },
+    "materials": { "a": { "diffuse": 0.1 }, "b": { "diffuse": 0.2 }, "c": { "diffuse": 0.3 } },
+    "objects": [
+        { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+        { "type": "union", "material": "a", "children": [
+            { "type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "b" },
+            { "type": "intersection", "children": [
+                { "type": "box", "min": [0, 0, 0], "max": [1, 1, 1] },
+                { "type": "difference", "material": "c", "children": [
+                    { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+                    { "type": "cylinder", "base": [0, 0, 0], "cap": [0, 1, 0], "radius": 1, "material": "a" } ] } ] } ] },
+        { "type": "plane", "normal": [0, 1, 0], "offset": 0, "material": "c" }
+    ] })";
+
+const Object& child(const Object& csg, std::size_t index) { return std::get<Csg>(csg.shape).children.at(index); }
+
+TEST(SceneLoader, PrimitiveUsesOwnMaterialElseNearestNamingAncestorElseDefault)
+{
+    const Scene scene = parse(nested_csg_scene);
+    const int a = 1, b = 2, c = 3;
+    EXPECT_EQ(scene.leaf_materials, (std::vector<int>{0, b, a, c, a, c}));
+    const Object& intersection = child(scene.objects.at(1), 1);
+    const Object& difference = child(intersection, 1);
+    EXPECT_EQ(scene.objects.at(0).material, 0);
+    EXPECT_EQ(child(scene.objects.at(1), 0).material, b);
+    EXPECT_EQ(child(intersection, 0).material, a);
+    EXPECT_EQ(child(difference, 0).material, c);
+    EXPECT_EQ(child(difference, 1).material, a);
+    EXPECT_EQ(scene.objects.at(2).material, c);
+    EXPECT_EQ(scene.material_of_leaf(3).diffuse, 0.3);
+}
+
+TEST(SceneLoader, LeavesAreNumberedInDocumentOrderWithTheirPaths)
+{
+    const Scene scene = parse(nested_csg_scene);
+    EXPECT_EQ(scene.leaf_paths, (std::vector<std::string>{
+                                    "objects[0]",
+                                    "objects[1].children[0]",
+                                    "objects[1].children[1].children[0]",
+                                    "objects[1].children[1].children[1].children[0]",
+                                    "objects[1].children[1].children[1].children[1]",
+                                    "objects[2]",
+                                }));
+    const Object& intersection = child(scene.objects.at(1), 1);
+    const Object& difference = child(intersection, 1);
+    EXPECT_EQ(scene.objects.at(0).leaf, 0);
+    EXPECT_EQ(child(scene.objects.at(1), 0).leaf, 1);
+    EXPECT_EQ(child(intersection, 0).leaf, 2);
+    EXPECT_EQ(child(difference, 0).leaf, 3);
+    EXPECT_EQ(child(difference, 1).leaf, 4);
+    EXPECT_EQ(scene.objects.at(2).leaf, 5);
+    EXPECT_EQ(std::get<Csg>(difference.shape).op, CsgOp::difference);
+    EXPECT_EQ(std::get<Csg>(intersection.shape).op, CsgOp::intersection);
+}
+
+TEST(SceneLoader, ContractExampleLoads)
+{
+    const Scene scene = parse(R"({
+      "format": "twinray-scene/1",
+      "image":  { "width": 320, "height": 240 },
+      "camera": { "eye": [0, 2, 8], "look_at": [0, 1, 0], "up": [0, 1, 0], "fov_deg": 50 },
+      "background": [0, 0, 0],
+      "ambient_light": [1, 1, 1],
+      "max_depth": 5,
+      "materials": {
+        "floor": { "color": [0.8, 0.8, 0.8], "diffuse": 0.8 },
+        "glass": { "color": [1, 1, 1], "ambient": 0, "diffuse": 0.05, "phong": 0.9, "phong_size": 80,
+                   "reflection": 0.1, "transmission": 0.85, "ior": 1.5 }
+      },
+      "lights": [ { "position": [5, 8, -6], "color": [1, 1, 1] } ],
+      "objects": [
+        { "type": "plane",    "normal": [0, 1, 0], "offset": 0, "material": "floor" },
+        { "type": "sphere",   "center": [0, 1, 0], "radius": 1, "material": "glass" },
+        { "type": "cylinder", "base": [2, 0, 0], "cap": [2, 2, 0], "radius": 0.5 },
+        { "type": "box",      "min": [-3, 0, -1], "max": [-2, 1, 0] },
+        { "type": "difference", "material": "floor", "children": [
+            { "type": "box", "min": [-1, 0, 2], "max": [1, 2, 4] },
+            { "type": "sphere", "center": [0, 1, 2], "radius": 1.2 } ] }
+      ]
+    })");
+    EXPECT_EQ(scene.material_names, (std::vector<std::string>{"(default)", "floor", "glass"}));
+    EXPECT_EQ(scene.leaf_materials, (std::vector<int>{1, 2, 0, 0, 1, 1}));
+    EXPECT_EQ(scene.leaf_paths.back(), "objects[4].children[1]");
+    EXPECT_TRUE(scene.has_csg());
+    EXPECT_TRUE(scene.has_transparency());
+    EXPECT_TRUE(scene.has_reflection());
+}
+
+TEST(SceneLoader, OnlyMaterialsInUseMakeASceneTransparentOrReflective)
+{
+    const std::string materials = R"("materials": { "glass": { "transmission": 0.9 }, "mirror": { "reflection": 1 } })";
+    const Scene unused = parse_with_camera(materials + R"(, "objects": [
+        { "type": "sphere", "center": [0, 0, 0], "radius": 1 } ])");
+    EXPECT_FALSE(unused.has_transparency());
+    EXPECT_FALSE(unused.has_reflection());
+    EXPECT_FALSE(unused.has_csg());
+    // Both reach a leaf only through a CSG ancestor.
+    const Scene inherited = parse_with_camera(materials + R"(, "objects": [
+        { "type": "union", "material": "glass", "children": [
+            { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+            { "type": "union", "material": "mirror", "children": [
+                { "type": "sphere", "center": [1, 0, 0], "radius": 1 },
+                { "type": "sphere", "center": [2, 0, 0], "radius": 1 } ] } ] } ])");
+    EXPECT_TRUE(inherited.has_transparency());
+    EXPECT_TRUE(inherited.has_reflection());
+    EXPECT_TRUE(inherited.has_csg());
+}
+
+TEST(SceneLoader, CsgNestedSixtyFourLevelsDeepLoads)
+{
+    const std::string sphere = R"({ "type": "sphere", "center": [0, 0, 0], "radius": 1 })";
+    std::string object = sphere;
+    for (int level = 1; level < 64; ++level) {
+        object = R"({ "type": "union", "children": [ )" + object + ", " + sphere + " ] }";
+    }
+    const Scene scene = parse_with_camera(R"("objects": [ )" + object + " ]");
+    EXPECT_EQ(scene.leaf_paths.front(), "objects[0]" + repeated(".children[0]", 63));
+    EXPECT_EQ(scene.leaf_paths.size(), 64u);
+}
+
+TEST(SceneLoader, TheSameKeyInDifferentObjectsIsNoDuplicate)
+{
+    const Scene scene = parse_with_camera(R"("objects": [
+        { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+        { "type": "sphere", "center": [1, 0, 0], "radius": 2 } ])");
+    EXPECT_EQ(scene.objects.size(), 2u);
+}
+
+TEST(SceneLoader, SyntaxErrorIsLocatedByLineAndColumnFromOne)
+{
+    try {
+        parse("{\n  \"objects\": [],\n  \"camera\": x\n}");
+        ADD_FAILURE() << "accepted";
+    } catch (const SceneError& error) {
+        EXPECT_EQ(error.location(), "line 3, column 13") << error.what();
+        EXPECT_EQ(error.problem().find("json.exception"), std::string::npos) << error.what();
+        EXPECT_EQ(std::string(error.what()), "<test>: " + error.location() + ": " + error.problem());
+    }
+}
+
+TEST(SceneLoader, MissingFileIsASceneErrorNamingTheFile)
+{
+    const std::filesystem::path file = malformed_dir / "no_such_scene.json";
+    try {
+        load_scene(file);
+        ADD_FAILURE() << "loaded a file that does not exist";
+    } catch (const SceneError& error) {
+        EXPECT_EQ(error.file(), file.string());
+        EXPECT_EQ(error.location(), "");
+        EXPECT_NE(error.problem().find("cannot open file"), std::string::npos) << error.what();
+        EXPECT_TRUE(std::string_view(error.what()).starts_with(file.string() + ": ")) << error.what();
+    }
+}
+
+TEST(SceneLoader, DirectoryIsASceneErrorNotAnEmptyScene)
+{
+    try {
+        load_scene(malformed_dir);
+        ADD_FAILURE() << "loaded a directory";
+    } catch (const SceneError& error) {
+        EXPECT_NE(error.problem().find("cannot read file"), std::string::npos) << error.what();
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The command-line image size.
+
+Scene scene_of_size(int width, int height)
+{
+    Scene scene;
+    scene.width = width;
+    scene.height = height;
+    return scene;
+}
+
+void expect_size(const ImageSize& size, int width, int height)
+{
+    EXPECT_EQ(size.width, width);
+    EXPECT_EQ(size.height, height);
+}
+
+TEST(ResolveImageSize, NeitherSideGivenKeepsTheScenesSize)
+{
+    expect_size(resolve_image_size(scene_of_size(320, 240), 0, 0), 320, 240);
+}
+
+TEST(ResolveImageSize, BothSidesGivenReplaceTheScenesSize)
+{
+    expect_size(resolve_image_size(scene_of_size(320, 240), 100, 300), 100, 300);
+}
+
+TEST(ResolveImageSize, OneSideGivenScalesTheOtherToTheScenesAspectRatio)
+{
+    const Scene scene = scene_of_size(320, 240);
+    expect_size(resolve_image_size(scene, 640, 0), 640, 480);
+    expect_size(resolve_image_size(scene, 0, 480), 640, 480);
+    expect_size(resolve_image_size(scene, 100, 0), 100, 75);
+}
+
+TEST(ResolveImageSize, ScaledSideRoundsToTheNearestInteger)
+{
+    const Scene scene = scene_of_size(320, 240);
+    expect_size(resolve_image_size(scene, 10, 0), 10, 8);   // 7.5 rounds up
+    expect_size(resolve_image_size(scene, 11, 0), 11, 8);   // 8.25
+    expect_size(resolve_image_size(scene, 0, 10), 13, 10);  // 13.33
+    expect_size(resolve_image_size(scene, 0, 11), 15, 11);  // 14.67
+}
+
+TEST(ResolveImageSize, ScaledSideIsAtLeastOne)
+{
+    expect_size(resolve_image_size(scene_of_size(16384, 1), 100, 0), 100, 1);
+    expect_size(resolve_image_size(scene_of_size(320, 240), 1, 0), 1, 1);
+}
+
+TEST(ResolveImageSize, SideOutsideOneTo16384IsRefused)
+{
+    const Scene scene = scene_of_size(320, 240);
+    EXPECT_THROW(resolve_image_size(scene, 16385, 0), std::invalid_argument);
+    EXPECT_THROW(resolve_image_size(scene, -1, 0), std::invalid_argument);
+    EXPECT_THROW(resolve_image_size(scene, 0, -5), std::invalid_argument);
+    EXPECT_THROW(resolve_image_size(scene, 100, 16385), std::invalid_argument);
+    EXPECT_NO_THROW(resolve_image_size(scene, 16384, 16384));
+}
+
+TEST(ResolveImageSize, ScaledSideBeyond16384IsRefused)
+{
+    EXPECT_THROW(resolve_image_size(scene_of_size(1, 16384), 2, 0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace twinray::scene

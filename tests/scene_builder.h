@@ -1,0 +1,109 @@
+// Scenes built in code for the tests, numbered as the loader numbers them: leaves 0..n-1 in document
+// order, leaf_paths as "objects[i].children[j]", leaf_materials with CSG inheritance applied (a
+// primitive's own material, else that of its nearest CSG ancestor that names one, else 0, the default).
+#pragma once
+
+#include "scene/scene.h"
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace twinray::test {
+
+// Material index 0 is the built-in default, so 0 also means "none named" here, as in the loader.
+inline scene::Object plane(scene::Vec3 normal, double offset, int material = 0) {
+    double norm = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+    scene::Plane shape{{normal[0] / norm, normal[1] / norm, normal[2] / norm}, offset};
+    return {shape, material, -1};
+}
+
+inline scene::Object sphere(scene::Vec3 center, double radius, int material = 0) {
+    return {scene::Sphere{center, radius}, material, -1};
+}
+
+inline scene::Object cylinder(scene::Vec3 base, scene::Vec3 cap, double radius, int material = 0) {
+    return {scene::Cylinder{base, cap, radius}, material, -1};
+}
+
+inline scene::Object box(scene::Vec3 min, scene::Vec3 max, int material = 0) {
+    return {scene::Box{min, max}, material, -1};
+}
+
+// `material` is the node's own named material, inherited by children that name none.
+inline scene::Object csg(scene::CsgOp op, std::vector<scene::Object> children, int material = 0) {
+    return {scene::Csg{op, std::move(children)}, material, -1};
+}
+
+class SceneBuilder {
+public:
+    SceneBuilder() {
+        scene_.camera.eye = {0, 0, 5};
+        scene_.camera.look_at = {0, 0, 0};
+    }
+
+    // Appends a named material; returns its index for the shapes above.
+    int material(const scene::Material& material) {
+        scene_.materials.push_back(material);
+        scene_.material_names.push_back("m" + std::to_string(scene_.materials.size() - 1));
+        return static_cast<int>(scene_.materials.size()) - 1;
+    }
+
+    SceneBuilder& light(scene::Vec3 position, scene::Vec3 color = {1, 1, 1}) {
+        scene_.lights.push_back({position, color});
+        return *this;
+    }
+
+    SceneBuilder& object(scene::Object object) {
+        scene_.objects.push_back(std::move(object));
+        return *this;
+    }
+
+    // Everything else (camera, background, ambient_light, max_depth, size) is set directly.
+    scene::Scene& scene() { return scene_; }
+
+    scene::Scene build() const {
+        scene::Scene result = scene_;
+        result.leaf_paths.clear();
+        result.leaf_materials.clear();
+        for (std::size_t i = 0; i < result.objects.size(); ++i) {
+            number(result.objects[i], "objects[" + std::to_string(i) + "]", 0, result);
+        }
+        return result;
+    }
+
+private:
+    static void number(scene::Object& object, const std::string& path, int inherited, scene::Scene& result) {
+        int material = object.material != 0 ? object.material : inherited;
+        if (auto* node = std::get_if<scene::Csg>(&object.shape)) {
+            for (std::size_t i = 0; i < node->children.size(); ++i) {
+                number(node->children[i], path + ".children[" + std::to_string(i) + "]", material, result);
+            }
+            return;
+        }
+        object.material = material;
+        object.leaf = static_cast<int>(result.leaf_paths.size());
+        result.leaf_paths.push_back(path);
+        result.leaf_materials.push_back(material);
+    }
+
+    scene::Scene scene_;
+};
+
+}  // namespace twinray::test
+
+// Component-wise EXPECT_NEAR on anything with x, y, z (reference::Vec3): each failure prints the
+// measured and the expected component.
+#define TWINRAY_EXPECT_VEC_NEAR(actual, expected, tolerance) \
+    do {                                                     \
+        const auto twinray_a_ = (actual);                    \
+        const auto twinray_e_ = (expected);                  \
+        EXPECT_NEAR(twinray_a_.x, twinray_e_.x, tolerance) << "x of " #actual; \
+        EXPECT_NEAR(twinray_a_.y, twinray_e_.y, tolerance) << "y of " #actual; \
+        EXPECT_NEAR(twinray_a_.z, twinray_e_.z, tolerance) << "z of " #actual; \
+    } while (false)
