@@ -85,6 +85,7 @@ const std::vector<Malformed> malformed_scenes = {
     {"camera_missing_eye.json", "camera.eye", "missing required key \"eye\""},
     {"camera_missing_look_at.json", "camera.look_at", "missing required key \"look_at\""},
     {"camera_eye_equals_look_at.json", "camera.look_at", "must differ from eye"},
+    {"camera_view_direction_overflows.json", "camera.look_at", "look_at - eye overflows a double"},
     {"camera_up_parallel.json", "camera.up", "is parallel to the view direction"},
     {"camera_default_up_parallel.json", "camera.up", "the default up [0, 1, 0] is parallel"},
     {"camera_fov_zero.json", "camera.fov_deg", "must be > 0 and < 180, got 0"},

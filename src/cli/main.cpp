@@ -1,4 +1,5 @@
 // twinray: two ray tracers, one scene format, and the tools to hold them against each other.
+#include "cli/bench_command.h"
 #include "cli/exit_codes.h"
 #include "cli/render_command.h"
 
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     std::function<int()> run;
     add_render_command(app, run);
+    add_bench_command(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -121,17 +121,26 @@ std::string ascii_only(std::string_view text)
     return result;
 }
 
+// What follows the first `marker` in `text`, or all of `text` if there is none.
+std::string_view after(std::string_view text, std::string_view marker)
+{
+    const std::size_t found = text.find(marker);
+    return found == std::string_view::npos ? text : text.substr(found + marker.size());
+}
+
 // "[json.exception.parse_error.101] parse error at line 1, column 5: syntax error ..." keeps only
 // "syntax error ...": the position is reported separately, computed from the byte offset.
 std::string plain_parser_message(const Json::exception& error)
 {
-    std::string_view message = error.what();
-    message.remove_prefix(std::min(message.find("] ") + 2, message.size()));
+    std::string_view message = after(error.what(), "] ");
     if (message.starts_with("parse error")) {
-        message.remove_prefix(std::min(message.find(": ") + 2, message.size()));
+        message = after(message, ": ");
     }
-    const bool overflow = error.id == 406;
-    return ascii_only(message) + (overflow ? "; numbers must be finite, at most 1.7976931348623157e308 in magnitude" : "");
+    // The parser's one refusal that is not a syntax error (406): a number beyond the range of double.
+    const std::string allowed = error.id == 406 ? "; numbers must be finite, at most " +
+                                                      format_number(std::numeric_limits<double>::max()) + " in magnitude"
+                                                : "";
+    return ascii_only(message) + allowed;
 }
 
 class SyntaxScan final : public nlohmann::json_sax<Json> {
@@ -442,19 +451,26 @@ void read_image(const Node& node, Scene& scene)
     scene.height = read_or(node, "height", scene.height, integer_in(1, max_image_side));
 }
 
-void require_up_not_parallel(const Node& camera_node, const Camera& camera)
+// look_at - eye, which the up rule needs; coordinates so far apart that it overflows are refused.
+Vec3 view_direction(const Node& look_at, const Camera& camera)
 {
+    require_distinct(look_at, camera.look_at, "eye", camera.eye);
     const Vec3 forward = minus(camera.look_at, camera.eye);
-    const std::string up_path = key_path(camera_node.path, "up");
     if (!is_finite(forward)) {
-        refuse(up_path, "cannot be checked: the view direction look_at - eye overflows a double");
+        refuse(look_at.path, "is too far from eye: look_at - eye overflows a double");
     }
-    const double sine = sine_of_angle(forward, camera.up);
+    return forward;
+}
+
+void require_up_not_parallel(const Node& camera_node, const Vec3& up, const Vec3& forward)
+{
+    const double sine = sine_of_angle(forward, up);
     if (!(sine >= min_up_sine)) {
         const std::string which_up = camera_node.json.contains("up") ? "up " : "the default up ";
-        refuse(up_path, which_up + format_vec3(camera.up) + " is parallel to the view direction " +
-                            format_vec3(forward) + "; the sine of their angle must be >= " +
-                            format_number(min_up_sine) + ", got " + format_number(sine));
+        refuse(key_path(camera_node.path, "up"),
+               which_up + format_vec3(up) + " is parallel to the view direction " + format_vec3(forward) +
+                   "; the sine of their angle must be >= " + format_number(min_up_sine) + ", got " +
+                   format_number(sine));
     }
 }
 
@@ -465,9 +481,9 @@ Camera read_camera(const Node& node)
     camera.eye = require_vec3(at(node, "eye"));
     const Node look_at = at(node, "look_at");
     camera.look_at = require_vec3(look_at);
-    require_distinct(look_at, camera.look_at, "eye", camera.eye);
+    const Vec3 forward = view_direction(look_at, camera);
     camera.up = read_or(node, "up", camera.up, require_vec3);
-    require_up_not_parallel(node, camera);
+    require_up_not_parallel(node, camera.up, forward);
     camera.fov_deg = read_or(node, "fov_deg", camera.fov_deg, number_in(field_of_view));
     return camera;
 }

@@ -74,6 +74,69 @@ void append(BlockList<Block>& list, const Shape& shape, std::int32_t id, float t
     ++list.count;
 }
 
+struct Bounds {
+    scene::Vec3 low, high;
+};
+
+constexpr double unbounded = std::numeric_limits<double>::infinity();
+
+Bounds merge(const Bounds& a, const Bounds& b, bool intersect) {
+    Bounds out;
+    for (int axis = 0; axis < 3; ++axis) {
+        out.low[axis] = intersect ? std::max(a.low[axis], b.low[axis]) : std::min(a.low[axis], b.low[axis]);
+        out.high[axis] = intersect ? std::min(a.high[axis], b.high[axis]) : std::max(a.high[axis], b.high[axis]);
+    }
+    return out;
+}
+
+// A conservative axis-aligned bound: a cylinder is bounded by its end points ± radius on every axis, a
+// plane not at all; an intersection by the overlap of its children's bounds, a difference by its first
+// child's.
+Bounds bounds_of(const scene::Object& object) {
+    return std::visit(
+        [&](const auto& shape) -> Bounds {
+            using S = std::decay_t<decltype(shape)>;
+            auto around = [](const scene::Vec3& a, const scene::Vec3& b, double pad) {
+                Bounds out;
+                for (int axis = 0; axis < 3; ++axis) {
+                    out.low[axis] = std::min(a[axis], b[axis]) - pad;
+                    out.high[axis] = std::max(a[axis], b[axis]) + pad;
+                }
+                return out;
+            };
+            if constexpr (std::is_same_v<S, scene::Plane>) {
+                return {{-unbounded, -unbounded, -unbounded}, {unbounded, unbounded, unbounded}};
+            } else if constexpr (std::is_same_v<S, scene::Sphere>) {
+                return around(shape.center, shape.center, shape.radius);
+            } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
+                return around(shape.base, shape.cap, shape.radius);
+            } else if constexpr (std::is_same_v<S, scene::Box>) {
+                return around(shape.min, shape.max, 0.0);
+            } else {
+                Bounds out = bounds_of(shape.children.front());
+                if (shape.op == scene::CsgOp::difference) {
+                    return out;
+                }
+                for (std::size_t i = 1; i < shape.children.size(); ++i) {
+                    out = merge(out, bounds_of(shape.children[i]), shape.op == scene::CsgOp::intersection);
+                }
+                return out;
+            }
+        },
+        object.shape);
+}
+
+// Widened by a relative margin far beyond float rounding, so that culling never loses a hit.
+scene::Box as_float_safe_box(const Bounds& bounds) {
+    scene::Box box;
+    for (int axis = 0; axis < 3; ++axis) {
+        double margin = 1e-4 * (std::fabs(bounds.low[axis]) + std::fabs(bounds.high[axis])) + 1e-30;
+        box.min[axis] = bounds.low[axis] - margin;
+        box.max[axis] = bounds.high[axis] + margin;
+    }
+    return box;
+}
+
 LeafInfo leaf_info(const scene::Object& object) {
     LeafInfo info{};
     info.material = object.material;
@@ -129,6 +192,7 @@ public:
             if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
                 CsgObject compiled;
                 add_csg_node(compiled, *csg, out);
+                append(out.csg_bounds, as_float_safe_box(bounds_of(object)), static_cast<std::int32_t>(out.csg_objects.size()), 1.0f);
                 out.csg_objects.push_back(std::move(compiled));
             } else {
                 out.leaves[object.leaf] = leaf_info(object);

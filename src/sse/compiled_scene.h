@@ -77,6 +77,9 @@ struct CompiledScene {
     BlockList<CylinderBlock> cylinders;
     BlockList<BoxBlock> boxes;
     std::vector<CsgObject> csg_objects;
+    // One axis-aligned bound per CSG object (ids: its index in csg_objects; ±∞ where a half-space leaves
+    // it unbounded), so a ray evaluates only the CSG objects it can meet.
+    BlockList<BoxBlock> csg_bounds;
 
     std::vector<LeafInfo> leaves;
     std::vector<MaterialF> materials;

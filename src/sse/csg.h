@@ -6,6 +6,7 @@
 
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 
@@ -31,6 +32,12 @@ struct SpanArray {
     Crossing exit[capacity];
 
     void clear() { count = 0; }
+    // Copies only the spans in use, not the whole capacity.
+    void assign(const SpanArray& other) {
+        count = other.count;
+        std::copy(other.enter, other.enter + count, enter);
+        std::copy(other.exit, other.exit + count, exit);
+    }
     void push(const Crossing& in, const Crossing& out) {
         enter[count] = in;
         exit[count] = out;

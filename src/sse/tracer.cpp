@@ -112,12 +112,17 @@ private:
             return;
         }
         const int* children = &object_.children_of[static_cast<std::size_t>(node.first_child)];
-        evaluate(children[0], out);
-        SpanArray operand, scratch, combined;
+        SpanArray operand, scratch, other;
+        SpanArray* accumulated = &out;
+        SpanArray* combined = &other;
+        evaluate(children[0], *accumulated);
         for (int i = 1; i < node.child_count; ++i) {
             evaluate(children[i], operand);
-            csg_combine(node.op, out, operand, scratch, combined);
-            out = combined;
+            csg_combine(node.op, *accumulated, operand, scratch, *combined);
+            std::swap(accumulated, combined);
+        }
+        if (accumulated != &out) {
+            out.assign(*accumulated);
         }
     }
 
@@ -190,9 +195,9 @@ public:
         for (int lane = 0; lane < 4; ++lane) {
             best.offer(t[lane], leaf[lane], tag[lane]);
         }
-        for (const CsgObject& object : scene_.csg_objects) {
+        for_each_csg_object_met(ray4, [&] { return best.t; }, [&](const CsgObject& object) {
             nearest_csg_crossing(object, ray4, best);
-        }
+        });
         if (best.leaf < 0) {
             return std::nullopt;
         }
@@ -213,6 +218,24 @@ public:
     }
 
 private:
+    // Calls visit(object) for each CSG object whose bound the ray meets between 0 and limit() (read
+    // again before each object, as the nearest hit so far shrinks it).
+    template <typename Limit, typename Visit>
+    void for_each_csg_object_met(const Ray4& ray, Limit&& limit, Visit&& visit) const {
+        for_each_block(scene_.csg_bounds, [&](const BoxBlock& block, const IntLanes& ids, const FloatLanes&) {
+            Span4 span = spans(block, ray);
+            alignas(16) float enter[4], exit[4];
+            span.enter.store(enter);
+            span.exit.store(exit);
+            int met = movemask(span.valid);
+            for (int lane = 0; lane < 4; ++lane) {
+                if (((met >> lane) & 1) && exit[lane] > 0.0f && enter[lane] < limit()) {
+                    visit(scene_.csg_objects[static_cast<std::size_t>(ids.value[lane])]);
+                }
+            }
+        });
+    }
+
     static void nearest_csg_crossing(const CsgObject& object, const Ray4& ray, ScalarNearest& best) {
         SpanArray spans;
         CsgEvaluation(object, ray).evaluate(spans);
@@ -251,9 +274,9 @@ private:
             return 0.0f;
         }
         float product = transmittance.lane(0) * transmittance.lane(1) * transmittance.lane(2) * transmittance.lane(3);
-        for (const CsgObject& object : scene_.csg_objects) {
+        for_each_csg_object_met(ray, [&] { return distance; }, [&](const CsgObject& object) {
             if (product == 0.0f) {
-                break;
+                return;
             }
             SpanArray spans;
             CsgEvaluation(object, ray).evaluate(spans);
@@ -264,7 +287,7 @@ private:
                     }
                 }
             }
-        }
+        });
         return product;
     }
 

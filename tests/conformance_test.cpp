@@ -1,0 +1,221 @@
+// The SSE tracer held against the reference<double> on every scene in scenes/: per primary ray (same
+// object; t, point and normal within a bound derived from float epsilon and the scene's scale) and per
+// image (max absolute error, share of pixels over 1/255). Measured maxima are printed on every run.
+#include "image/image.h"
+#include "reference/tracer.h"
+#include "scene/loader.h"
+#include "sse/cpu.h"
+#include "sse/tracer.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using RefTracer = twinray::reference::Tracer<double>;
+using RefRay = twinray::reference::Ray<double>;
+using RefHit = twinray::reference::Hit<double>;
+using RefVec = twinray::reference::Vec3<double>;
+
+constexpr double float_epsilon = std::numeric_limits<float>::epsilon();
+
+// The bound on |t_sse − t_ref|, derived: single precision rounds the camera, the ray and every primitive
+// parameter by about ε relative to the scene's largest coordinate S, and the ray's direction by about ε,
+// so at distance t the float ray passes about ε·(S + t) from the double one. A surface met at angle θ
+// to its normal turns that lateral offset into a shift along the ray of ε·(S + t)/|cos θ|, and each
+// intersection formula adds a few ε of the same size through cancellation. The bound is that with a
+// factor 64 of margin: 64·ε·(S + t)/|cos θ|. The hit point obeys the same bound.
+constexpr double distance_bound_in_epsilons = 64;
+constexpr double normal_bound_radians = 1e-3;
+// A ray is in the silhouette/seam band when rays shifted by this share of a pixel on the image plane
+// see a different primitive, a hit where it misses (or the reverse), or a normal turned by more than
+// the normal bound: there a change of float rounding legitimately changes the answer.
+constexpr double band_pixels = 1e-3;
+// Images, compared as stored (clamped to [0, 1]): at most 0.1% of pixels may differ by more than one
+// 8-bit level (measured at most 0.02% on our scenes), and no pixel by more than 0.5. A single pixel
+// can legitimately differ by a lot: a secondary ray that grazes a silhouette may see another object in
+// float than in double, and no band on primary rays can exclude that.
+constexpr double max_share_over_one_level = 0.001;
+constexpr double max_pixel_error = 0.5;
+
+std::vector<fs::path> scene_files() {
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::directory_iterator(fs::path(TWINRAY_SOURCE_DIR) / "scenes")) {
+        if (entry.path().extension() == ".json") {
+            files.push_back(entry.path());
+        }
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+double largest_coordinate(const twinray::scene::Scene& scene) {
+    double largest = 0;
+    auto take = [&](const twinray::scene::Vec3& v) {
+        for (double c : v) largest = std::max(largest, std::fabs(c));
+    };
+    take(scene.camera.eye);
+    take(scene.camera.look_at);
+    std::function<void(const twinray::scene::Object&)> visit = [&](const twinray::scene::Object& object) {
+        std::visit(
+            [&](const auto& shape) {
+                using S = std::decay_t<decltype(shape)>;
+                if constexpr (std::is_same_v<S, twinray::scene::Plane>) {
+                    largest = std::max(largest, std::fabs(shape.offset));
+                } else if constexpr (std::is_same_v<S, twinray::scene::Sphere>) {
+                    take(shape.center);
+                    largest = std::max(largest, shape.radius);
+                } else if constexpr (std::is_same_v<S, twinray::scene::Cylinder>) {
+                    take(shape.base);
+                    take(shape.cap);
+                } else if constexpr (std::is_same_v<S, twinray::scene::Box>) {
+                    take(shape.min);
+                    take(shape.max);
+                } else {
+                    for (const auto& child : shape.children) visit(child);
+                }
+            },
+            object.shape);
+    };
+    for (const auto& object : scene.objects) visit(object);
+    return largest;
+}
+
+double angle_between(RefVec a, RefVec b) {
+    return std::atan2(twinray::reference::length(twinray::reference::cross(a, b)), twinray::reference::dot(a, b));
+}
+
+// The reference's ray through image-plane position (px, py) in pixels (px = x + 0.5 is a pixel centre).
+RefRay reference_ray_at(const twinray::scene::Scene& scene, double px, double py, int width, int height) {
+    using namespace twinray::reference;
+    Vec3<double> eye(scene.camera.eye);
+    Vec3<double> forward = normalize(Vec3<double>(scene.camera.look_at) - eye);
+    Vec3<double> right = normalize(cross(forward, Vec3<double>(scene.camera.up)));
+    Vec3<double> up = cross(right, forward);
+    double half_width = std::tan(scene.camera.fov_deg * std::numbers::pi / 360.0);
+    double half_height = half_width * height / width;
+    double u = (2.0 * px / width - 1.0) * half_width;
+    double v = (1.0 - 2.0 * py / height) * half_height;
+    return {eye, normalize(forward + u * right + v * up)};
+}
+
+bool same_answer(const std::optional<RefHit>& a, const std::optional<RefHit>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    if (!a) return true;
+    return a->leaf == b->leaf && angle_between(a->normal, b->normal) <= normal_bound_radians;
+}
+
+bool in_band(const RefTracer& reference, const twinray::scene::Scene& scene, int x, int y, int width, int height,
+             const std::optional<RefHit>& centre) {
+    const double shifts[4][2] = {{band_pixels, 0}, {-band_pixels, 0}, {0, band_pixels}, {0, -band_pixels}};
+    for (const auto& shift : shifts) {
+        RefRay ray = reference_ray_at(scene, x + 0.5 + shift[0], y + 0.5 + shift[1], width, height);
+        if (!same_answer(centre, reference.intersect(ray))) return true;
+    }
+    return false;
+}
+
+class Conformance : public ::testing::TestWithParam<fs::path> {
+protected:
+    void SetUp() override {
+        if (!twinray::sse::cpu_supports_sse41()) {
+            GTEST_SKIP() << twinray::sse::missing_sse41_message();
+        }
+        scene_ = twinray::scene::load_scene(GetParam());
+    }
+    twinray::scene::Scene scene_;
+};
+
+TEST_P(Conformance, EveryPrimaryRayHitsTheSameObjectWithinTheFloatBound) {
+    RefTracer reference(scene_);
+    twinray::sse::Tracer sse(scene_);
+    const int width = scene_.width, height = scene_.height;
+    const double scale = largest_coordinate(scene_);
+    long rays = 0, banded = 0, disagreements = 0;
+    double max_t_error = 0, max_point_error = 0, max_normal_error = 0, max_bound_share = 0;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            ++rays;
+            std::optional<RefHit> expected = reference.intersect(reference.primary_ray(x, y, width, height));
+            std::optional<twinray::sse::Hit> actual = sse.intersect(sse.primary_ray(x, y, width, height));
+            bool agrees = expected.has_value() == actual.has_value() && (!expected || expected->leaf == actual->leaf);
+            if (agrees && expected) {
+                double t_error = std::fabs(actual->t - expected->t);
+                RefVec point(actual->point.x, actual->point.y, actual->point.z);
+                RefVec normal(actual->normal.x, actual->normal.y, actual->normal.z);
+                double point_error = twinray::reference::length(point - expected->point);
+                double normal_error = angle_between(normal, expected->normal);
+                double cos_incidence = std::fabs(twinray::reference::dot(expected->normal, reference.primary_ray(x, y, width, height).direction));
+                double distance_bound = distance_bound_in_epsilons * float_epsilon * (scale + expected->t) / cos_incidence;
+                max_bound_share = std::max(max_bound_share, std::max(t_error, point_error) / distance_bound);
+                agrees = t_error <= distance_bound && point_error <= distance_bound &&
+                         normal_error <= normal_bound_radians && actual->entering == expected->entering;
+                if (agrees || !in_band(reference, scene_, x, y, width, height, expected)) {
+                    max_t_error = std::max(max_t_error, t_error);
+                    max_point_error = std::max(max_point_error, point_error);
+                    max_normal_error = std::max(max_normal_error, normal_error);
+                }
+            }
+            if (!agrees) {
+                if (in_band(reference, scene_, x, y, width, height, expected)) {
+                    ++banded;
+                } else {
+                    ++disagreements;
+                    ADD_FAILURE() << "pixel " << x << "," << y << ": reference "
+                                  << (expected ? scene_.leaf_paths[expected->leaf] + " t=" + std::to_string(expected->t) : "miss")
+                                  << ", sse "
+                                  << (actual ? scene_.leaf_paths[actual->leaf] + " t=" + std::to_string(actual->t) : "miss");
+                    if (disagreements > 10) return;
+                }
+            }
+        }
+    }
+    std::printf("[ measured ] %s: %ld rays, %ld of them in the %.0e-pixel band, %ld disagreements; max |dt| %.3g, "
+                "max |dp| %.3g, at most %.3f of the bound %.0f*eps*(S + t)/|cos| with S = %.3g; "
+                "max normal angle %.3g rad (bound %.0e)\n",
+                GetParam().stem().c_str(), rays, banded, band_pixels, disagreements, max_t_error, max_point_error,
+                max_bound_share, distance_bound_in_epsilons, scale, max_normal_error, normal_bound_radians);
+    RecordProperty("max_t_error", std::to_string(max_t_error));
+    RecordProperty("band_rays", std::to_string(banded));
+    EXPECT_EQ(disagreements, 0);
+    EXPECT_LE(max_bound_share, 1.0);
+    EXPECT_LE(max_normal_error, normal_bound_radians);
+}
+
+TEST_P(Conformance, RenderedImageAgreesWithTheReference) {
+    twinray::RenderOptions options;
+    twinray::Image expected = twinray::reference::render<double>(scene_, options).image;
+    twinray::Image actual = twinray::sse::render(scene_, options).image;
+    ASSERT_EQ(actual.width(), expected.width());
+    ASSERT_EQ(actual.height(), expected.height());
+    double max_error = 0;
+    long over_one_level = 0;
+    for (std::size_t i = 0; i < expected.pixels().size(); ++i) {
+        const twinray::Rgb& a = actual.pixels()[i];
+        const twinray::Rgb& e = expected.pixels()[i];
+        // Compared as stored in an image: clamped to [0, 1].
+        auto clamp = [](float v) { return std::clamp(static_cast<double>(v), 0.0, 1.0); };
+        double error = std::max({std::fabs(clamp(a.r) - clamp(e.r)), std::fabs(clamp(a.g) - clamp(e.g)), std::fabs(clamp(a.b) - clamp(e.b))});
+        max_error = std::max(max_error, error);
+        over_one_level += error > 1.0 / 255.0;
+    }
+    double share = static_cast<double>(over_one_level) / static_cast<double>(expected.pixels().size());
+    std::printf("[ measured ] %s image: max abs error %.4f, %ld pixels (%.4f%%) over 1/255\n", GetParam().stem().c_str(),
+                max_error, over_one_level, 100 * share);
+    RecordProperty("max_error", std::to_string(max_error));
+    RecordProperty("share_over_one_level", std::to_string(share));
+    EXPECT_LE(share, max_share_over_one_level);
+    EXPECT_LE(max_error, max_pixel_error);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, Conformance, ::testing::ValuesIn(scene_files()),
+                         [](const ::testing::TestParamInfo<fs::path>& info) { return info.param.stem().string(); });
+
+}  // namespace

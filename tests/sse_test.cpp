@@ -1,0 +1,143 @@
+// Properties of the SSE tracer that conformance does not show: its CPU check, 16-byte alignment of all
+// SIMD data (the thesis's lesson, heap included), and no heap allocation while tracing.
+#include "reference/tracer.h"
+#include "scene/loader.h"
+#include "sse/compiled_scene.h"
+#include "sse/cpu.h"
+#include "sse/tracer.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <new>
+#include <string>
+
+namespace {
+std::atomic<long> heap_allocations{0};
+}  // namespace
+
+// Counts every allocation in this test binary, so a test can prove a code path allocates nothing.
+// GCC flags free() inside a replaced operator delete as mismatched; here it is the matching malloc's.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+void* operator new(std::size_t size) {
+    ++heap_allocations;
+    if (void* memory = std::malloc(size == 0 ? 1 : size)) {
+        return memory;
+    }
+    throw std::bad_alloc();
+}
+void* operator new(std::size_t size, std::align_val_t alignment) {
+    ++heap_allocations;
+    std::size_t rounded = (size + static_cast<std::size_t>(alignment) - 1) & ~(static_cast<std::size_t>(alignment) - 1);
+    if (void* memory = std::aligned_alloc(static_cast<std::size_t>(alignment), rounded == 0 ? static_cast<std::size_t>(alignment) : rounded)) {
+        return memory;
+    }
+    throw std::bad_alloc();
+}
+void operator delete(void* memory) noexcept { std::free(memory); }
+void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
+void operator delete(void* memory, std::align_val_t) noexcept { std::free(memory); }
+void operator delete(void* memory, std::size_t, std::align_val_t) noexcept { std::free(memory); }
+
+namespace {
+
+namespace fs = std::filesystem;
+
+twinray::scene::Scene load(const std::string& name) {
+    return twinray::scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "scenes" / name);
+}
+
+class SseTracerTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!twinray::sse::cpu_supports_sse41()) {
+            GTEST_SKIP() << twinray::sse::missing_sse41_message();
+        }
+    }
+};
+
+TEST(SseCpuCheck, SimulatedMissingSse41IsReportedAsUnsupported) {
+    ASSERT_EQ(::setenv("TWINRAY_SIMULATE_NO_SSE41", "1", 1), 0);
+    EXPECT_FALSE(twinray::sse::cpu_supports_sse41());
+    ASSERT_EQ(::unsetenv("TWINRAY_SIMULATE_NO_SSE41"), 0);
+    EXPECT_EQ(twinray::sse::cpu_supports_sse41(), static_cast<bool>(__builtin_cpu_supports("sse4.1")));
+    EXPECT_NE(twinray::sse::missing_sse41_message().find("SSE4.1"), std::string::npos);
+}
+
+template <typename Block>
+void expect_aligned(const twinray::sse::BlockList<Block>& list, const std::string& what) {
+    for (const auto& block : list.blocks) {
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&block) % 16, 0u) << what;
+    }
+    for (const auto& lanes : list.ids) {
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&lanes) % 16, 0u) << what << " ids";
+    }
+    for (const auto& lanes : list.transmission) {
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&lanes) % 16, 0u) << what << " transmission";
+    }
+}
+
+TEST_F(SseTracerTest, EverySimdBlockOnTheHeapIsSixteenByteAligned) {
+    static_assert(alignof(twinray::sse::SphereBlock) == 16 && alignof(twinray::sse::PlaneBlock) == 16 &&
+                  alignof(twinray::sse::CylinderBlock) == 16 && alignof(twinray::sse::BoxBlock) == 16);
+    for (const char* name : {"showcase.json", "csg.json", "complete2.json"}) {
+        twinray::sse::Tracer tracer(load(name));
+        const twinray::sse::CompiledScene& compiled = tracer.compiled();
+        expect_aligned(compiled.planes, std::string(name) + " planes");
+        expect_aligned(compiled.spheres, std::string(name) + " spheres");
+        expect_aligned(compiled.cylinders, std::string(name) + " cylinders");
+        expect_aligned(compiled.boxes, std::string(name) + " boxes");
+        expect_aligned(compiled.csg_bounds, std::string(name) + " csg bounds");
+        for (const auto& object : compiled.csg_objects) {
+            expect_aligned(object.planes, std::string(name) + " csg planes");
+            expect_aligned(object.spheres, std::string(name) + " csg spheres");
+            expect_aligned(object.cylinders, std::string(name) + " csg cylinders");
+            expect_aligned(object.boxes, std::string(name) + " csg boxes");
+        }
+    }
+}
+
+TEST_F(SseTracerTest, TracingRaysMakesNoHeapAllocation) {
+    for (const char* name : {"showcase.json", "csg.json", "complete2.json"}) {
+        twinray::scene::Scene scene = load(name);
+        twinray::sse::Tracer tracer(scene);
+        std::uint64_t rays = 0;
+        long before = heap_allocations.load();
+        for (int y = 0; y < scene.height; y += 7) {
+            for (int x = 0; x < scene.width; x += 7) {
+                tracer.trace(tracer.primary_ray(x, y, scene.width, scene.height), 1, &rays);
+            }
+        }
+        long allocations = heap_allocations.load() - before;
+        EXPECT_EQ(allocations, 0) << name << ": " << allocations << " allocations while tracing " << rays << " rays";
+        EXPECT_GT(rays, 1000u) << name;
+    }
+}
+
+// The counter itself must see allocations, or the test above could not fail.
+TEST(AllocationCounter, CountsAVectorsAllocation) {
+    long before = heap_allocations.load();
+    std::vector<int> numbers(100);
+    EXPECT_GE(heap_allocations.load() - before, 1) << numbers.size();
+}
+
+TEST_F(SseTracerTest, ImageIsBitIdenticalForOneTwoAndThreeThreads) {
+    twinray::scene::Scene scene = load("csg.json");
+    twinray::RenderOptions options;
+    options.width = 160;
+    options.threads = 1;
+    twinray::RenderResult one = twinray::sse::render(scene, options);
+    for (int threads : {2, 3}) {
+        options.threads = threads;
+        twinray::RenderResult many = twinray::sse::render(scene, options);
+        EXPECT_TRUE(many.image == one.image) << threads << " threads";
+        EXPECT_EQ(many.rays, one.rays) << threads << " threads";
+    }
+}
+
+}  // namespace
