@@ -16,8 +16,8 @@ struct CommandResult {
     std::string output;  // stdout and stderr together
 };
 
-CommandResult run_twinray(const std::string& arguments) {
-    std::string command = std::string(TWINRAY_BINARY) + " " + arguments + " 2>&1";
+CommandResult run_twinray(const std::string& arguments, const std::string& environment = "") {
+    std::string command = environment + " " + std::string(TWINRAY_BINARY) + " " + arguments + " 2>&1";
     FILE* pipe = ::popen(command.c_str(), "r");
     if (pipe == nullptr) {
         return {-1, "popen failed"};
@@ -121,6 +121,22 @@ TEST_F(CliTest, OutOfRangeSizeAndUnknownTracerAreUsageErrors) {
     EXPECT_EQ(run_twinray("render " + scene("spheres.json") + " --height 16385 -o " + output("b.png")).exit_status, 1);
     EXPECT_EQ(run_twinray("render " + scene("spheres.json") + " --tracer nonsense -o " + output("c.png")).exit_status, 1);
     EXPECT_TRUE(fs::is_empty(folder_));
+}
+
+TEST_F(CliTest, SseTracerOnACpuWithoutSse41IsRefusedWithStatusFiveAndNothingWritten) {
+    const std::string no_sse41 = "TWINRAY_SIMULATE_NO_SSE41=1";
+    CommandResult result = run_twinray("render " + scene("spheres.json") + " --tracer sse -o " + output("s.png"), no_sse41);
+    EXPECT_EQ(result.exit_status, 5) << result.output;
+    EXPECT_NE(result.output.find("SSE4.1"), std::string::npos) << result.output;
+    EXPECT_TRUE(fs::is_empty(folder_));
+    CommandResult fallback = run_twinray("render " + scene("spheres.json") + " --tracer reference -o " + output("r.png"), no_sse41);
+    EXPECT_EQ(fallback.exit_status, 0) << fallback.output;
+}
+
+TEST_F(CliTest, SseIsTheDefaultTracer) {
+    CommandResult result = run_twinray("render " + scene("spheres.json") + " --width 32 -o " + output("s.png"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_NE(result.output.find("tracer:      sse"), std::string::npos) << result.output;
 }
 
 TEST_F(CliTest, ReplacingAnExistingImageLeavesNoTemporaryFileBehind) {

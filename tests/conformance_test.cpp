@@ -216,6 +216,6 @@ TEST_P(Conformance, RenderedImageAgreesWithTheReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Conformance, ::testing::ValuesIn(scene_files()),
-                         [](const ::testing::TestParamInfo<fs::path>& info) { return info.param.stem().string(); });
+                         [](const ::testing::TestParamInfo<fs::path>& param_info) { return param_info.param.stem().string(); });
 
 }  // namespace

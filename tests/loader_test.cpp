@@ -145,6 +145,7 @@ const std::vector<Malformed> malformed_scenes = {
     // CSG: at least two children, nesting (with paths through it) up to 64 levels.
     {"csg_missing_children.json", "objects[0].children", "missing required key \"children\""},
     {"csg_one_child.json", "objects[0].children", "expected at least 2 objects, got 1"},
+    {"csg_too_many_primitives.json", "objects[1]", "at most 64 primitives"},
     {"csg_children_not_array.json", "objects[0].children", "expected an array of objects, got an object"},
     {"csg_unknown_key_on_node.json", "objects[0].radius",
      "unknown key \"radius\"; allowed keys for a difference: type, children, material"},

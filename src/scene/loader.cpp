@@ -673,7 +673,14 @@ Object read_object(const Node& node, Scene& scene, int level, int inherited_mate
 void read_objects(const Node& node, Scene& scene)
 {
     for (const Node& element : require_array(node, "an array of objects")) {
+        const std::size_t leaves_before = scene.leaf_paths.size();
         scene.objects.push_back(read_object(element, scene, 1, 0));
+        const std::size_t leaves = scene.leaf_paths.size() - leaves_before;
+        if (leaves > static_cast<std::size_t>(max_csg_leaves)) {
+            refuse(element.path, "a CSG object may hold at most " + std::to_string(max_csg_leaves) +
+                                     " primitives (the SSE tracer keeps its span lists in fixed-size arrays), this one holds " +
+                                     std::to_string(leaves) + "; split it into several objects");
+        }
     }
 }
 

@@ -14,8 +14,8 @@ namespace twinray::scene {
 
 class SceneError : public std::runtime_error {
 public:
-    // `location` is a JSON path such as "objects[3].radius" ("" for the document itself), or
-    // "line L, column C" for a syntax error.
+    // `location` is a JSON path such as "objects[3].radius" ("(root)" for the document itself),
+    // "line L, column C" for a syntax error, or "" when the file itself cannot be read.
     SceneError(std::string file, std::string location, std::string problem);
 
     const std::string& file() const { return file_; }

@@ -115,7 +115,7 @@ struct ImageSize {
 
 // A command-line size replaces the scene's; giving only one side (the other 0) keeps the scene's
 // aspect ratio, rounded to the nearest integer and at least 1. Throws std::invalid_argument when a
-// given side is outside 1..max_image_side.
+// side, given or derived, is outside 1..max_image_side (0 means "not given"; negatives are refused).
 ImageSize resolve_image_size(const Scene& scene, int requested_width, int requested_height);
 
 }  // namespace twinray::scene
