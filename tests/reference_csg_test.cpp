@@ -152,6 +152,14 @@ TEST(ReferenceCsgDifference, RayStartingInsideAHalfSpaceCutSolidLeavesThroughThe
     EXPECT_HIT(scene, V(0, 0.5, 0), V(0, -1, 0), {0.5, {0, 0, 0}, {0, 1, 0}, 1, false});
 }
 
+// From the removed lower half of the cube: upwards the cut face is entered; downwards the cube's
+// bottom face lies in the removed half and is no surface of the solid.
+TEST(ReferenceCsgDifference, RayStartingInTheRemovedHalfSeesOnlyTheCutFace) {
+    auto scene = cube_cut_by_plane();
+    EXPECT_HIT(scene, V(0, -0.5, 0), V(0, 1, 0), {0.5, {0, 0, 0}, {0, -1, 0}, 1, true});
+    EXPECT_MISS(scene, V(0, -0.5, 0), V(0, -1, 0));
+}
+
 // The cube [−1,1]³ minus the box [0,1]×[−2,2]² shares the face x = 1 with it: the two faces cancel
 // (no zero-thickness skin is left), and the first surface is the subtrahend's face x = 0.
 TEST(ReferenceCsgDifference, SubtrahendSharingAFaceLeavesNoSkinOnThatFace) {
@@ -206,6 +214,15 @@ TEST(ReferenceCsgIntersection, CoincidentEntryFacesReportTheEarlierChildWhicheve
     EXPECT_HIT(second, V(5, 0.1, 0.2), V(-1, 0, 0), {4, {1, 0.1, 0.2}, {1, 0, 0}, 0, true});
 }
 
+// The unit ball (leaf 0) cut to its lower half by the half-space y < 0 (leaf 1).
+TEST(ReferenceCsgIntersection, BallIntersectedWithAHalfSpaceShowsTheFlatCutFromAbove) {
+    auto scene =
+        scene_of(test::csg(CsgOp::intersection, {test::sphere({0, 0, 0}, 1), test::plane({0, 1, 0}, 0)}));
+    EXPECT_HIT(scene, V(0.2, 5, 0.1), V(0, -1, 0), {5, {0.2, 0, 0.1}, {0, 1, 0}, 1, true});
+    EXPECT_HIT(scene, V(0, -5, 0), V(0, 1, 0), {4, {0, -1, 0}, {0, -1, 0}, 0, true});
+    EXPECT_MISS(scene, V(0, 0.5, 5), V(0, 0, -1));
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Union: the same two overlapping unit spheres.
 
@@ -238,6 +255,15 @@ TEST(ReferenceCsgUnion, UnionOfTwoIdenticalSpheresReportsTheFirstChildFromOutsid
     auto scene = scene_of(test::csg(CsgOp::union_, {test::sphere({0, 1, 0}, 1), test::sphere({0, 1, 0}, 1)}));
     EXPECT_HIT(scene, V(0, 1, 5), V(0, 0, -1), {4, {0, 1, 1}, {0, 0, 1}, 0, true});
     EXPECT_HIT(scene, V(0, 1, 0), V(0, 0, -1), {1, {0, 1, -1}, {0, 0, 1}, 0, false});
+}
+
+// The half-space y < 0 (leaf 0) united with the unit ball (leaf 1): a ray from deep inside the
+// half-space passes the plane inside the ball and leaves through the ball's top.
+TEST(ReferenceCsgUnion, RayFromInsideAHalfSpaceUnionLeavesWhereItIsInNeitherOperand) {
+    auto scene = scene_of(test::csg(CsgOp::union_, {test::plane({0, 1, 0}, 0), test::sphere({0, 0, 0}, 1)}));
+    EXPECT_HIT(scene, V(0, -5, 0), V(0, 1, 0), {6, {0, 1, 0}, {0, -1, 0}, 1, false});
+    EXPECT_HIT(scene, V(3, -5, 0), V(0, 1, 0), {5, {3, 0, 0}, {0, -1, 0}, 0, false});
+    EXPECT_HIT(scene, V(0, 5, 0), V(0, -1, 0), {4, {0, 1, 0}, {0, 1, 0}, 1, true});
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -287,12 +313,13 @@ TEST(ReferenceCsgTieRule, TwoIdenticalSpheresReportTheFirstOnesLeaf) {
     builder.object(test::sphere({0, 0, 0}, 1));
     auto scene = builder.build();
     EXPECT_HIT(scene, V(0, 0, 5), V(0, 0, -1), {4, {0, 0, 1}, {0, 0, 1}, 1, true});
-    EXPECT_HIT(scene, V(0.3, 0, 0), V(0, 1, 0), {std::sqrt(0.91), {0.3, std::sqrt(0.91), 0}, {-0.3, -std::sqrt(0.91), 0}, 1, false});
+    double y = std::sqrt(0.91);  // where the line x = 0.3 leaves the unit sphere
+    EXPECT_HIT(scene, V(0.3, 0, 0), V(0, 1, 0), {y, {0.3, y, 0}, {-0.3, -y, 0}, 1, false});
 }
 
 // A box's top face and a plane at y = 0 are met at exactly the same t (both −o_y/d_y): the earlier
 // object wins, whichever kind it is.
-TEST(ReferenceCsgTieRule, CoincidentPlaneAndBoxFaceReportWhicheverComesFirst) {
+TEST(ReferenceCsgTieRule, CoincidentPlaneAndBoxFaceReportTheEarlierObjectWhicheverKindItIs) {
     V origin(0.1, 3, 0.2);
     V direction(0.2, -1, 0.1);  // y = 0 after 3 of these steps, at (0.7, 0, 0.5)
     V point(0.7, 0, 0.5);

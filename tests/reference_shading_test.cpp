@@ -354,7 +354,8 @@ TEST(ReferenceCamera, CameraLookingDownNegativeZHasPositiveXToTheRightAndPositiv
 }
 
 // Eye (1,2,3) looking at (2,1,−1) with fov 60° on a 7 × 5 image: the centre pixel (3,2) looks along f;
-// every other pixel along f + u·right + v·up with u = (2(x+½)/7 − 1)·tan 30°, v = (1 − 2(y+½)/5)·tan 30°·5/7.
+// every other pixel along f + u·right + v·up with u = (2(x+½)/7 − 1)·tan 30°,
+// v = (1 − 2(y+½)/5)·tan 30°·5/7.
 TEST(ReferenceCamera, PrimaryRaysFollowTheContractsFormulaForAGeneralCamera) {
     V eye(1, 2, 3);
     Tracer<double> tracer = camera_tracer(eye, {2, 1, -1}, {0, 1, 0}, 60);

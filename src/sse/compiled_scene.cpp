@@ -1,5 +1,6 @@
 #include "sse/compiled_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -206,6 +207,9 @@ public:
         out.ambient_light = Color(scene_.ambient_light);
         out.max_depth = scene_.max_depth;
         out.any_transparency = scene_.has_transparency();
+        out.any_box_test = !out.boxes.blocks.empty() || !out.csg_bounds.blocks.empty() ||
+                           std::any_of(out.csg_objects.begin(), out.csg_objects.end(),
+                                       [](const CsgObject& object) { return !object.boxes.blocks.empty(); });
 
         out.eye = Vec3(scene_.camera.eye);
         out.forward = normalize(Vec3(scene_.camera.look_at) - out.eye);

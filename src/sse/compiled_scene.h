@@ -89,6 +89,7 @@ struct CompiledScene {
     // Model only what the scene requires: without transparent materials a shadow ray stops at its first
     // blocker and no refracted ray is ever traced.
     bool any_transparency = false;
+    bool any_box_test = false;  // boxes or CSG bounds: rays need their reciprocal direction
 
     Vec3 eye, forward, right, up;
     float half_width = 0;

@@ -18,11 +18,14 @@ struct Ray4 {
     bool parallel[3];              // d[axis] == 0: that axis's slabs bound nothing
     bool forward[3];               // d[axis] > 0
 
-    explicit Ray4(const Ray& ray) {
+    // The reciprocals cost three divisions per ray: only scenes with boxes (or CSG bounds) ask for them.
+    Ray4(const Ray& ray, bool with_inverse_direction) {
         for (int axis = 0; axis < 3; ++axis) {
             origin[axis] = vfloat4(ray.origin[axis]);
             direction[axis] = vfloat4(ray.direction[axis]);
-            inverse_direction[axis] = vfloat4(1.0f / ray.direction[axis]);
+            if (with_inverse_direction) {
+                inverse_direction[axis] = vfloat4(1.0f / ray.direction[axis]);
+            }
             parallel[axis] = ray.direction[axis] == 0.0f;
             forward[axis] = ray.direction[axis] > 0.0f;
         }

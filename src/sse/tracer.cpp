@@ -181,7 +181,7 @@ public:
     explicit Shader(const CompiledScene& scene) : scene_(scene) {}
 
     std::optional<Hit> intersect(const Ray& ray) const {
-        Ray4 ray4(ray);
+        Ray4 ray4(ray, scene_.any_box_test);
         Nearest4 nearest;
         for_each_span(scene_, ray4, [&](const Span4& span, const IntLanes& ids, const FloatLanes&) {
             keep_nearest(nearest, span, vint4::load(ids.value));
@@ -253,7 +253,7 @@ private:
     float shadow_transmittance(Vec3 origin, Vec3 light_position) const {
         Vec3 to_light = light_position - origin;
         float distance = length(to_light);
-        Ray4 ray(Ray{origin, to_light / distance});
+        Ray4 ray(Ray{origin, (1.0f / distance) * to_light}, scene_.any_box_test);
         vfloat4 zero(0.0f), one(1.0f), limit(distance);
         vfloat4 transmittance = one;
         bool blocked = false;
