@@ -69,35 +69,30 @@ TEST(SseCpuCheck, SimulatedMissingSse41IsReportedAsUnsupported) {
     EXPECT_NE(twinray::sse::missing_sse41_message().find("SSE4.1"), std::string::npos);
 }
 
-template <typename Block>
-void expect_aligned(const twinray::sse::BlockList<Block>& list, const std::string& what) {
-    for (const auto& block : list.blocks) {
-        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&block) % 16, 0u) << what;
-    }
-    for (const auto& lanes : list.ids) {
-        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&lanes) % 16, 0u) << what << " ids";
-    }
-    for (const auto& lanes : list.transmission) {
-        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&lanes) % 16, 0u) << what << " transmission";
+template <typename Primitive>
+void expect_aligned(const twinray::sse::PrimitiveList<Primitive>& list, const std::string& what) {
+    for (const auto& primitive : list.items) {
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&primitive) % 16, 0u) << what;
     }
 }
 
-TEST_F(SseTracerTest, EverySimdBlockOnTheHeapIsSixteenByteAligned) {
-    static_assert(alignof(twinray::sse::SphereBlock) == 16 && alignof(twinray::sse::PlaneBlock) == 16 &&
-                  alignof(twinray::sse::CylinderBlock) == 16 && alignof(twinray::sse::BoxBlock) == 16);
+void expect_aligned(const twinray::sse::PrimitiveLists& lists, const std::string& what) {
+    expect_aligned(lists.planes, what + " planes");
+    expect_aligned(lists.spheres, what + " spheres");
+    expect_aligned(lists.cylinders, what + " cylinders");
+    expect_aligned(lists.boxes, what + " boxes");
+}
+
+TEST_F(SseTracerTest, EveryPrimitiveRecordOnTheHeapIsSixteenByteAligned) {
+    static_assert(alignof(twinray::sse::SphereF) == 16 && alignof(twinray::sse::PlaneF) == 16 &&
+                  alignof(twinray::sse::CylinderF) == 16 && alignof(twinray::sse::BoxF) == 16);
     for (const char* name : {"showcase.json", "csg.json", "complete2.json"}) {
         twinray::sse::Tracer tracer(load(name));
         const twinray::sse::CompiledScene& compiled = tracer.compiled();
-        expect_aligned(compiled.planes, std::string(name) + " planes");
-        expect_aligned(compiled.spheres, std::string(name) + " spheres");
-        expect_aligned(compiled.cylinders, std::string(name) + " cylinders");
-        expect_aligned(compiled.boxes, std::string(name) + " boxes");
-        expect_aligned(compiled.csg_bounds, std::string(name) + " csg bounds");
+        expect_aligned(compiled.primitives, name);
         for (const auto& object : compiled.csg_objects) {
-            expect_aligned(object.planes, std::string(name) + " csg planes");
-            expect_aligned(object.spheres, std::string(name) + " csg spheres");
-            expect_aligned(object.cylinders, std::string(name) + " csg cylinders");
-            expect_aligned(object.boxes, std::string(name) + " csg boxes");
+            expect_aligned(object.leaves, std::string(name) + " csg");
+            EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&object.bound) % 16, 0u) << name << " csg bound";
         }
     }
 }
@@ -124,6 +119,30 @@ TEST(AllocationCounter, CountsAVectorsAllocation) {
     long before = heap_allocations.load();
     std::vector<int> numbers(100);
     EXPECT_GE(heap_allocations.load() - before, 1) << numbers.size();
+}
+
+TEST_F(SseTracerTest, RenderedPixelsEqualTheSingleRayTraceOfEachPixel) {
+    // A packet computes each lane alone, so a pixel rendered in a 2x2 packet equals its ray traced alone.
+    twinray::scene::Scene scene = load("showcase.json");
+    twinray::RenderOptions options;
+    options.width = 61;  // odd, so edge packets run with inactive lanes
+    twinray::RenderResult result = twinray::sse::render(scene, options);
+    twinray::sse::Tracer tracer(scene);
+    const int width = result.image.width(), height = result.image.height();
+    std::uint64_t rays = 0;
+    int mismatches = 0;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            twinray::sse::Color c = tracer.trace(tracer.primary_ray(x, y, width, height), 1, &rays);
+            const twinray::Rgb& pixel = result.image.at(x, y);
+            if (!(pixel.r == c.x && pixel.g == c.y && pixel.b == c.z) && ++mismatches <= 5) {
+                ADD_FAILURE() << "pixel " << x << "," << y << ": rendered " << pixel.r << "," << pixel.g << "," << pixel.b
+                              << ", traced alone " << c.x << "," << c.y << "," << c.z;
+            }
+        }
+    }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_EQ(rays, result.rays);
 }
 
 TEST_F(SseTracerTest, ImageIsBitIdenticalForOneTwoAndThreeThreads) {

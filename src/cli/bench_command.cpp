@@ -22,6 +22,7 @@ struct BenchArguments {
     std::vector<std::string> scenes;
     int runs = 5;
     int threads = 0;
+    int width = 0;
 };
 
 struct Configuration {
@@ -31,10 +32,11 @@ struct Configuration {
 };
 
 // The median of `runs` renders, in Mrays/s: the median resists the odd run disturbed by the machine.
-double median_mrays(const std::string& tracer, const scene::Scene& scene, int threads, int runs) {
+double median_mrays(const std::string& tracer, const scene::Scene& scene, int width, int threads, int runs) {
     std::vector<double> speeds;
     for (int run = 0; run < runs; ++run) {
         RenderOptions options;
+        options.width = width;
         options.threads = threads;
         auto start = std::chrono::steady_clock::now();
         RenderResult result = render_with(tracer, scene, options);
@@ -67,7 +69,8 @@ int run_bench(const BenchArguments& arguments) {
         std::cerr << "twinray bench: " << reason << "\n";
         return exit_cpu_unsupported;
     }
-    std::printf("Mrays/s, median of %d renders at each scene's own size\n\n", arguments.runs);
+    std::printf("Mrays/s, median of %d renders %s\n\n", arguments.runs,
+                arguments.width == 0 ? "at each scene's own size" : ("at width " + std::to_string(arguments.width)).c_str());
     std::printf("%-12s", "scene");
     for (const Configuration& configuration : configurations) {
         std::printf(" %12s", configuration.label.c_str());
@@ -83,7 +86,7 @@ int run_bench(const BenchArguments& arguments) {
         }
         std::vector<double> speeds;
         for (const Configuration& configuration : configurations) {
-            speeds.push_back(median_mrays(configuration.tracer, scene, configuration.threads, arguments.runs));
+            speeds.push_back(median_mrays(configuration.tracer, scene, arguments.width, configuration.threads, arguments.runs));
         }
         std::printf("%-12s", fs::path(path).stem().string().c_str());
         for (double speed : speeds) {
@@ -106,6 +109,8 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
     command->add_option("--runs", arguments->runs, "Renders per configuration; the median is reported")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
+    command->add_option("--width", arguments->width, "Render width (height keeps each scene's aspect; default: the scene's)")
+        ->check(CLI::Range(1, 16384));
     command->add_option("--threads", arguments->threads, "Threads of the multi-threaded column (default: all cores)")
         ->check(CLI::Range(1, 1024));
     command->callback([arguments, &run] { run = [arguments] { return run_bench(*arguments); }; });

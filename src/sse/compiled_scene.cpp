@@ -9,70 +9,35 @@
 namespace twinray::sse {
 namespace {
 
-constexpr float nan = std::numeric_limits<float>::quiet_NaN();
-
-// An empty primitive for unused lanes: NaN parameters fail every ordered comparison; a box with
-// min = +∞ and max = −∞ has no inside.
-void pad(PlaneBlock& block, int lane) {
-    for (auto& row : block.normal) row[lane] = nan;
-    block.offset[lane] = nan;
+PlaneF convert(const scene::Plane& plane) {
+    return {{static_cast<float>(plane.normal[0]), static_cast<float>(plane.normal[1]), static_cast<float>(plane.normal[2])},
+            static_cast<float>(plane.offset)};
 }
-void pad(SphereBlock& block, int lane) {
-    for (auto& row : block.center) row[lane] = nan;
-    block.radius[lane] = nan;
-}
-void pad(CylinderBlock& block, int lane) {
-    for (auto& row : block.base) row[lane] = nan;
-    for (auto& row : block.axis) row[lane] = nan;
-    block.height[lane] = nan;
-    block.radius[lane] = nan;
-}
-void pad(BoxBlock& block, int lane) {
-    for (auto& row : block.min) row[lane] = std::numeric_limits<float>::infinity();
-    for (auto& row : block.max) row[lane] = -std::numeric_limits<float>::infinity();
-}
-
-void set_lane(PlaneBlock& block, int lane, const scene::Plane& plane) {
-    for (int axis = 0; axis < 3; ++axis) block.normal[axis][lane] = static_cast<float>(plane.normal[axis]);
-    block.offset[lane] = static_cast<float>(plane.offset);
-}
-void set_lane(SphereBlock& block, int lane, const scene::Sphere& sphere) {
-    for (int axis = 0; axis < 3; ++axis) block.center[axis][lane] = static_cast<float>(sphere.center[axis]);
-    block.radius[lane] = static_cast<float>(sphere.radius);
+SphereF convert(const scene::Sphere& sphere) {
+    return {{static_cast<float>(sphere.center[0]), static_cast<float>(sphere.center[1]), static_cast<float>(sphere.center[2])},
+            static_cast<float>(sphere.radius)};
 }
 // Axis and height are derived in float from the float end points, as the reference<float> does.
-void set_lane(CylinderBlock& block, int lane, const scene::Cylinder& cylinder) {
+CylinderF convert(const scene::Cylinder& cylinder) {
     Vec3 base(cylinder.base);
     Vec3 along = Vec3(cylinder.cap) - base;
     Vec3 axis = normalize(along);
-    for (int i = 0; i < 3; ++i) {
-        block.base[i][lane] = base[i];
-        block.axis[i][lane] = axis[i];
-    }
-    block.height[lane] = length(along);
-    block.radius[lane] = static_cast<float>(cylinder.radius);
+    return {{base.x, base.y, base.z}, length(along), {axis.x, axis.y, axis.z}, static_cast<float>(cylinder.radius)};
 }
-void set_lane(BoxBlock& block, int lane, const scene::Box& box) {
+BoxF convert(const scene::Box& box) {
+    BoxF out{};
     for (int axis = 0; axis < 3; ++axis) {
-        block.min[axis][lane] = static_cast<float>(box.min[axis]);
-        block.max[axis][lane] = static_cast<float>(box.max[axis]);
+        out.min[axis] = static_cast<float>(box.min[axis]);
+        out.max[axis] = static_cast<float>(box.max[axis]);
     }
+    return out;
 }
 
-template <typename Block, typename Shape>
-void append(BlockList<Block>& list, const Shape& shape, std::int32_t id, float transmission) {
-    int lane = list.count % 4;
-    if (lane == 0) {
-        Block block;
-        for (int i = 0; i < 4; ++i) pad(block, i);
-        list.blocks.push_back(block);
-        list.ids.push_back({{-1, -1, -1, -1}});
-        list.transmission.push_back({{1, 1, 1, 1}});
-    }
-    set_lane(list.blocks.back(), lane, shape);
-    list.ids.back().value[lane] = id;
-    list.transmission.back().value[lane] = transmission;
-    ++list.count;
+template <typename Primitive, typename Shape>
+void append(PrimitiveList<Primitive>& list, const Shape& shape, std::int32_t id, float transmission) {
+    list.items.push_back(convert(shape));
+    list.ids.push_back(id);
+    list.transmission.push_back(transmission);
 }
 
 struct Bounds {
@@ -162,9 +127,8 @@ LeafInfo leaf_info(const scene::Object& object) {
     return info;
 }
 
-// Appends a primitive to the lists of its type: at top level, or inside one CSG object.
-template <typename Lists>
-void append_primitive(Lists& lists, const scene::Object& object, std::int32_t id, float transmission) {
+// Appends a primitive to the list of its type: at top level, or inside one CSG object.
+void append_primitive(PrimitiveLists& lists, const scene::Object& object, std::int32_t id, float transmission) {
     std::visit(
         [&](const auto& shape) {
             using S = std::decay_t<decltype(shape)>;
@@ -193,11 +157,11 @@ public:
             if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
                 CsgObject compiled;
                 add_csg_node(compiled, *csg, out);
-                append(out.csg_bounds, as_float_safe_box(bounds_of(object)), static_cast<std::int32_t>(out.csg_objects.size()), 1.0f);
+                compiled.bound = convert(as_float_safe_box(bounds_of(object)));
                 out.csg_objects.push_back(std::move(compiled));
             } else {
                 out.leaves[object.leaf] = leaf_info(object);
-                append_primitive(out, object, object.leaf, transmission_of(object));
+                append_primitive(out.primitives, object, object.leaf, transmission_of(object));
             }
         }
         for (const scene::Light& light : scene_.lights) {
@@ -207,9 +171,7 @@ public:
         out.ambient_light = Color(scene_.ambient_light);
         out.max_depth = scene_.max_depth;
         out.any_transparency = scene_.has_transparency();
-        out.any_box_test = !out.boxes.blocks.empty() || !out.csg_bounds.blocks.empty() ||
-                           std::any_of(out.csg_objects.begin(), out.csg_objects.end(),
-                                       [](const CsgObject& object) { return !object.boxes.blocks.empty(); });
+        out.any_box_test = !out.primitives.boxes.items.empty() || !out.csg_objects.empty();
 
         out.eye = Vec3(scene_.camera.eye);
         out.forward = normalize(Vec3(scene_.camera.look_at) - out.eye);
@@ -236,7 +198,7 @@ private:
                 int slot = static_cast<int>(compiled.slot_leaf.size());
                 compiled.slot_leaf.push_back(child.leaf);
                 out.leaves[child.leaf] = leaf_info(child);
-                append_primitive(compiled, child, slot, transmission_of(child));
+                append_primitive(compiled.leaves, child, slot, transmission_of(child));
                 children.push_back(static_cast<int>(compiled.nodes.size()));
                 compiled.nodes.push_back({scene::CsgOp::union_, 0, 0, slot});
             }

@@ -1,7 +1,7 @@
-// The scene as the SSE tracer sees it: one flat array of 4-wide blocks per primitive type (structure of
-// arrays), so a ray loops only over the types a scene has; CSG objects apart, so scenes without CSG pay
-// nothing for it. Built once per render; every block is 16-byte aligned, on the heap too (std::vector
-// of an alignas(16) type uses C++17 aligned new).
+// The scene as the SSE tracer sees it: one flat array per primitive type, so a packet loops only over
+// the types a scene has; CSG objects apart (and culled by a bound), so scenes without CSG pay nothing
+// for it. Built once per render. Every primitive record is 16-byte aligned, on the heap too
+// (std::vector of an alignas(16) type uses C++17 aligned new).
 #pragma once
 
 #include "sse/box.h"
@@ -16,22 +16,20 @@
 
 namespace twinray::sse {
 
-struct alignas(16) IntLanes {
-    std::int32_t value[4];
+// Primitives of one type. `ids` are global leaf indices at top level and slots within a CSG object;
+// `transmission` is that of each primitive's material, for shadow rays.
+template <typename Primitive>
+struct PrimitiveList {
+    std::vector<Primitive> items;
+    std::vector<std::int32_t> ids;
+    std::vector<float> transmission;
 };
 
-struct alignas(16) FloatLanes {
-    float value[4];
-};
-
-// Blocks of one primitive type, filled four lanes at a time; unused lanes hold an empty primitive that
-// no ray can hit. `ids` are global leaf indices at top level and slots within a CSG object.
-template <typename Block>
-struct BlockList {
-    std::vector<Block> blocks;
-    std::vector<IntLanes> ids;
-    std::vector<FloatLanes> transmission;  // of each lane's material, for shadow rays
-    int count = 0;
+struct PrimitiveLists {
+    PrimitiveList<PlaneF> planes;
+    PrimitiveList<SphereF> spheres;
+    PrimitiveList<CylinderF> cylinders;
+    PrimitiveList<BoxF> boxes;
 };
 
 struct CsgNodeF {
@@ -42,13 +40,11 @@ struct CsgNodeF {
 };
 
 struct CsgObject {
-    BlockList<PlaneBlock> planes;
-    BlockList<SphereBlock> spheres;
-    BlockList<CylinderBlock> cylinders;
-    BlockList<BoxBlock> boxes;
+    PrimitiveLists leaves;                // ids are slots
     std::vector<std::int32_t> slot_leaf;  // slot -> global leaf index
-    std::vector<CsgNodeF> nodes;         // nodes[0] is the root
-    std::vector<int> children_of;        // child node indices, grouped per node
+    std::vector<CsgNodeF> nodes;          // nodes[0] is the root
+    std::vector<int> children_of;         // child node indices, grouped per node
+    BoxF bound;                           // axis-aligned, ±∞ where a half-space leaves it unbounded
 };
 
 enum class LeafKind : std::uint8_t { plane, sphere, cylinder, box };
@@ -72,14 +68,8 @@ struct LightF {
 };
 
 struct CompiledScene {
-    BlockList<PlaneBlock> planes;
-    BlockList<SphereBlock> spheres;
-    BlockList<CylinderBlock> cylinders;
-    BlockList<BoxBlock> boxes;
+    PrimitiveLists primitives;  // top-level primitives; ids are leaf indices
     std::vector<CsgObject> csg_objects;
-    // One axis-aligned bound per CSG object (ids: its index in csg_objects; ±∞ where a half-space leaves
-    // it unbounded), so a ray evaluates only the CSG objects it can meet.
-    BlockList<BoxBlock> csg_bounds;
 
     std::vector<LeafInfo> leaves;
     std::vector<MaterialF> materials;
@@ -87,9 +77,9 @@ struct CompiledScene {
     Color background, ambient_light;
     int max_depth = 1;
     // Model only what the scene requires: without transparent materials a shadow ray stops at its first
-    // blocker and no refracted ray is ever traced.
+    // blocker and no refracted ray is ever traced; without boxes no ray computes its reciprocal.
     bool any_transparency = false;
-    bool any_box_test = false;  // boxes or CSG bounds: rays need their reciprocal direction
+    bool any_box_test = false;  // boxes, in CSG too, or CSG bounds
 
     Vec3 eye, forward, right, up;
     float half_width = 0;

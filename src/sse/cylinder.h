@@ -1,15 +1,15 @@
-// Solid capped cylinder, four at a time.
+// Solid capped cylinder against four rays.
 #pragma once
 
 #include "sse/span4.h"
 
 namespace twinray::sse {
 
-struct alignas(16) CylinderBlock {
-    float base[3][4];
-    float axis[3][4];  // unit, base towards cap
-    float height[4];
-    float radius[4];
+struct alignas(16) CylinderF {
+    float base[3];
+    float height;   // |cap − base|
+    float axis[3];  // unit, base towards cap
+    float radius;
 };
 
 // Face codes.
@@ -19,30 +19,29 @@ constexpr int cylinder_top_cap = 2;   // outward normal +axis
 
 // Same formulas as the reference (reference/cylinder.h): the quadratic on the components perpendicular
 // to the axis with the cancellation-free discriminant A·r² − |f⊥ × d⊥|², roots q/A and c/q, clipped to
-// the slab between the caps. Each lane has its own axis, so "parallel to the axis" is a per-lane select.
-inline Span4 spans(const CylinderBlock& block, const Ray4& ray) {
+// the slab between the caps. A ray parallel to the axis (A = 0) or to the caps is a per-lane select.
+inline Span4 spans(const CylinderF& cylinder, const RayPacket& rays) {
     vfloat4 axis[3], f[3], f_perp[3], d_perp[3];
     for (int i = 0; i < 3; ++i) {
-        axis[i] = vfloat4::load(block.axis[i]);
-        f[i] = ray.origin[i] - vfloat4::load(block.base[i]);
+        axis[i] = vfloat4(cylinder.axis[i]);
+        f[i] = rays.origin[i] - vfloat4(cylinder.base[i]);
     }
     vfloat4 axial_origin = dot3(f, axis);
-    vfloat4 axial_direction = dot3(ray.direction, axis);
+    vfloat4 axial_direction = dot3(rays.direction, axis);
     for (int i = 0; i < 3; ++i) {
         f_perp[i] = f[i] - axial_origin * axis[i];
-        d_perp[i] = ray.direction[i] - axial_direction * axis[i];
+        d_perp[i] = rays.direction[i] - axial_direction * axis[i];
     }
-    vfloat4 radius = vfloat4::load(block.radius);
-    vfloat4 r2 = radius * radius;
+    vfloat4 r2(cylinder.radius * cylinder.radius);
     vfloat4 a = dot3(d_perp, d_perp);
     vfloat4 c = dot3(f_perp, f_perp) - r2;
     vfloat4 moment[3] = {f_perp[1] * d_perp[2] - f_perp[2] * d_perp[1], f_perp[2] * d_perp[0] - f_perp[0] * d_perp[2],
                          f_perp[0] * d_perp[1] - f_perp[1] * d_perp[0]};
     vfloat4 discriminant = a * r2 - dot3(moment, moment);
     vfloat4 zero(0.0f);
+    vfloat4 height(cylinder.height);
     vbool4 along_axis = a == zero;
     vbool4 side_valid = select_mask(along_axis, c < zero, discriminant >= zero);
-    vfloat4 height = vfloat4::load(block.height);
     vbool4 slab_valid = (axial_direction > zero) | (axial_direction < zero) |
                         ((axial_origin > zero) & (axial_origin < height));
     Span4 span;

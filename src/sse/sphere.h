@@ -1,29 +1,28 @@
-// Sphere |p − c| = r, four at a time.
+// Sphere |p − c| = r, against four rays.
 #pragma once
 
 #include "sse/span4.h"
 
 namespace twinray::sse {
 
-struct alignas(16) SphereBlock {
-    float center[3][4];
-    float radius[4];
+struct alignas(16) SphereF {
+    float center[3];
+    float radius;
 };
 
 // Same formula as the reference (reference/sphere.h): with f = o − c, b = f·d,
 // Δ = r² − |f − b·d|² (no cancellation far from the sphere), q = −b − sign(b)·√Δ, t = q and c/q.
 // The division waits until some lane is known to hit (the thesis: divide only where needed).
-inline Span4 spans(const SphereBlock& block, const Ray4& ray) {
+inline Span4 spans(const SphereF& sphere, const RayPacket& rays) {
     vfloat4 f[3], perpendicular[3];
     for (int axis = 0; axis < 3; ++axis) {
-        f[axis] = ray.origin[axis] - vfloat4::load(block.center[axis]);
+        f[axis] = rays.origin[axis] - vfloat4(sphere.center[axis]);
     }
-    vfloat4 b = dot3(f, ray.direction);
+    vfloat4 b = dot3(f, rays.direction);
     for (int axis = 0; axis < 3; ++axis) {
-        perpendicular[axis] = f[axis] - b * ray.direction[axis];
+        perpendicular[axis] = f[axis] - b * rays.direction[axis];
     }
-    vfloat4 radius = vfloat4::load(block.radius);
-    vfloat4 r2 = radius * radius;
+    vfloat4 r2(sphere.radius * sphere.radius);
     vfloat4 discriminant = r2 - dot3(perpendicular, perpendicular);
     Span4 span;
     span.valid = discriminant >= vfloat4(0.0f);

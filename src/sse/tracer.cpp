@@ -6,108 +6,108 @@
 #include <cmath>
 #include <limits>
 
+// Why packets of four rays (one ray per lane, each primitive broadcast) and not one ray against four
+// primitives (one primitive per lane): both run the same intersection formulas, and we measured both
+// (docs/performance.md). Testing one ray against four primitives left the lanes of small scenes half
+// empty (complete1 has 2 planes, 4 spheres, 1 cylinder) and, above all, left shading scalar, and
+// shading is most of a Whitted ray's work: normals, light vectors, shadow-ray set-up, Phong, Snell. With
+// four rays per lane set, intersection, shadows and shading all run four-wide, and secondary rays
+// continue as packets under a mask of the lanes that spawn them.
+
 namespace twinray::sse {
 namespace {
 
 // Tag bits of a nearest hit: the crossing's tag (face, flipped) plus whether the ray enters there.
 constexpr std::int32_t tag_entering = 0x20;
 
-// The nearest crossing so far, per lane; reduced across lanes once per ray.
+struct Vec4 {
+    vfloat4 x, y, z;
+
+    vfloat4 operator[](int axis) const { return axis == 0 ? x : axis == 1 ? y : z; }
+};
+
+inline Vec4 operator+(const Vec4& a, const Vec4& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec4 operator-(const Vec4& a, const Vec4& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec4 operator*(vfloat4 s, const Vec4& a) { return {s * a.x, s * a.y, s * a.z}; }
+inline Vec4 operator*(const Vec4& a, const Vec4& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+inline Vec4 operator-(const Vec4& a) { return {-a.x, -a.y, -a.z}; }
+inline vfloat4 dot(const Vec4& a, const Vec4& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec4 broadcast(Vec3 v) { return {vfloat4(v.x), vfloat4(v.y), vfloat4(v.z)}; }
+inline Vec4 select(vbool4 mask, const Vec4& a, const Vec4& b) {
+    return {select(mask, a.x, b.x), select(mask, a.y, b.y), select(mask, a.z, b.z)};
+}
+// As the scalar normalize: one IEEE division shared by the three components.
+inline Vec4 normalize(const Vec4& a) { return (vfloat4(1.0f) / sqrt(dot(a, a))) * a; }
+
+using Color4 = Vec4;
+
+inline vfloat4 from_lanes(const float lanes[4]) { return vfloat4(_mm_setr_ps(lanes[0], lanes[1], lanes[2], lanes[3])); }
+
+// The nearest crossing so far, per lane (per ray).
 struct Nearest4 {
     vfloat4 t{infinity};
     vint4 leaf{-1};
     vint4 tag{0};
 };
 
-// A primitive's first crossing after t = 0 is its enter if that lies ahead, else its exit. Only a
-// strictly nearer crossing replaces the lane's best, so at equal t the earlier primitive stays.
-inline void keep_nearest(Nearest4& nearest, const Span4& span, vint4 leaf) {
+// A primitive's first crossing after t = 0 is its enter if that lies ahead, else its exit. Smaller t
+// wins; at equal t the smaller leaf, i.e. the object earlier in the file.
+inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf_id) {
     vfloat4 zero(0.0f);
+    vint4 leaf(leaf_id);
     vbool4 entering = span.enter > zero;
     vfloat4 t = select(entering, span.enter, span.exit);
     vint4 tag = select(entering, span.enter_face | vint4(tag_entering), span.exit_face);
-    vbool4 nearer = span.valid & (t > zero) & (t < nearest.t);
+    vbool4 nearer = span.valid & (t > zero) & ((t < nearest.t) | ((t == nearest.t) & (leaf < nearest.leaf)));
     nearest.t = select(nearer, t, nearest.t);
     nearest.leaf = select(nearer, leaf, nearest.leaf);
     nearest.tag = select(nearer, tag, nearest.tag);
 }
 
-struct ScalarNearest {
-    float t = infinity;
-    std::int32_t leaf = -1;
-    std::int32_t tag = 0;
-
-    // Smaller t wins; at equal t the smaller leaf, i.e. the object earlier in the file.
-    void offer(float candidate_t, std::int32_t candidate_leaf, std::int32_t candidate_tag) {
-        if (candidate_leaf >= 0 && (candidate_t < t || (candidate_t == t && candidate_leaf < leaf))) {
-            t = candidate_t;
-            leaf = candidate_leaf;
-            tag = candidate_tag;
-        }
-    }
-};
-
-template <typename Block, typename Visit>
-void for_each_block(const BlockList<Block>& list, Visit&& visit) {
-    for (std::size_t i = 0; i < list.blocks.size(); ++i) {
-        visit(list.blocks[i], list.ids[i], list.transmission[i]);
+template <typename Primitive, typename Visit>
+void for_each_primitive(const PrimitiveList<Primitive>& list, const RayPacket& rays, Visit&& visit) {
+    for (std::size_t i = 0; i < list.items.size(); ++i) {
+        visit(spans(list.items[i], rays), list.ids[i], list.transmission[i]);
     }
 }
 
-// Calls visit(span, ids, transmission) for every block of every primitive type present.
-template <typename Lists, typename Visit>
-void for_each_span(const Lists& lists, const Ray4& ray, Visit&& visit) {
-    auto visit_block = [&](const auto& block, const IntLanes& ids, const FloatLanes& transmission) {
-        visit(spans(block, ray), ids, transmission);
-    };
-    for_each_block(lists.planes, visit_block);
-    for_each_block(lists.spheres, visit_block);
-    for_each_block(lists.cylinders, visit_block);
-    for_each_block(lists.boxes, visit_block);
+// Calls visit(span, id, transmission) for every primitive of every type present.
+template <typename Visit>
+void for_each_span(const PrimitiveLists& lists, const RayPacket& rays, Visit&& visit) {
+    for_each_primitive(lists.planes, rays, visit);
+    for_each_primitive(lists.spheres, rays, visit);
+    for_each_primitive(lists.cylinders, rays, visit);
+    for_each_primitive(lists.boxes, rays, visit);
 }
 
-// A CSG object's spans along the ray: every leaf's span computed four at a time, then the tree folded
-// bottom-up in stack arrays.
+// A CSG object's span list for one lane of a packet: every leaf's span computed for the whole packet
+// (four rays per instruction), then the tree folded bottom-up per ray in stack arrays.
 class CsgEvaluation {
 public:
-    CsgEvaluation(const CsgObject& object, const Ray4& ray) : object_(object) {
-        for_each_span(object, ray, [&](const Span4& span, const IntLanes& slots, const FloatLanes&) {
-            alignas(16) float enter[4], exit[4];
-            alignas(16) std::int32_t enter_face[4], exit_face[4];
-            span.enter.store(enter);
-            span.exit.store(exit);
-            span.enter_face.store(enter_face);
-            span.exit_face.store(exit_face);
-            int valid = movemask(span.valid);
-            for (int lane = 0; lane < 4; ++lane) {
-                int slot = slots.value[lane];
-                if (slot < 0) {
-                    continue;
-                }
-                LeafSpan& leaf = leaf_spans_[slot];
-                leaf.valid = (valid >> lane) & 1;
-                std::int32_t id = object.slot_leaf[static_cast<std::size_t>(slot)];
-                leaf.enter = {enter[lane], std::isinf(enter[lane]) ? -1 : id, enter_face[lane]};
-                leaf.exit = {exit[lane], std::isinf(exit[lane]) ? -1 : id, exit_face[lane]};
-            }
+    CsgEvaluation(const CsgObject& object, const RayPacket& rays) : object_(object) {
+        for_each_span(object.leaves, rays, [&](const Span4& span, std::int32_t slot, float) {
+            span.enter.store(enter_[slot]);
+            span.exit.store(exit_[slot]);
+            span.enter_face.store(enter_face_[slot]);
+            span.exit_face.store(exit_face_[slot]);
+            valid_[slot] = movemask(span.valid);
         });
     }
 
-    void evaluate(SpanArray& out) const { evaluate(0, out); }
+    void evaluate(int lane, SpanArray& out) const { evaluate(lane, 0, out); }
 
 private:
-    struct LeafSpan {
-        bool valid;
-        Crossing enter, exit;
-    };
-
-    void evaluate(int node_index, SpanArray& out) const {
+    void evaluate(int lane, int node_index, SpanArray& out) const {
         const CsgNodeF& node = object_.nodes[static_cast<std::size_t>(node_index)];
         if (node.slot >= 0) {
             out.clear();
-            const LeafSpan& leaf = leaf_spans_[node.slot];
-            if (leaf.valid) {
-                out.push(leaf.enter, leaf.exit);
+            int slot = node.slot;
+            if ((valid_[slot] >> lane) & 1) {
+                std::int32_t leaf = object_.slot_leaf[static_cast<std::size_t>(slot)];
+                float enter = enter_[slot][lane];
+                float exit = exit_[slot][lane];
+                out.push({enter, std::isinf(enter) ? -1 : leaf, enter_face_[slot][lane]},
+                         {exit, std::isinf(exit) ? -1 : leaf, exit_face_[slot][lane]});
             }
             return;
         }
@@ -115,9 +115,9 @@ private:
         SpanArray operand, scratch, other;
         SpanArray* accumulated = &out;
         SpanArray* combined = &other;
-        evaluate(children[0], *accumulated);
+        evaluate(lane, children[0], *accumulated);
         for (int i = 1; i < node.child_count; ++i) {
-            evaluate(children[i], operand);
+            evaluate(lane, children[i], operand);
             csg_combine(node.op, *accumulated, operand, scratch, *combined);
             std::swap(accumulated, combined);
         }
@@ -127,8 +127,18 @@ private:
     }
 
     const CsgObject& object_;
-    LeafSpan leaf_spans_[scene::max_csg_leaves];
+    alignas(16) float enter_[scene::max_csg_leaves][4];
+    alignas(16) float exit_[scene::max_csg_leaves][4];
+    alignas(16) std::int32_t enter_face_[scene::max_csg_leaves][4];
+    alignas(16) std::int32_t exit_face_[scene::max_csg_leaves][4];
+    int valid_[scene::max_csg_leaves];
 };
+
+// The lanes whose ray meets the object's bound somewhere in (0, limit).
+inline int lanes_meeting_bound(const CsgObject& object, const RayPacket& rays, vfloat4 limit) {
+    Span4 span = spans(object.bound, rays);
+    return movemask(rays.active & span.valid & (span.exit > vfloat4(0.0f)) & (span.enter < limit));
+}
 
 Vec3 outward_normal(const LeafInfo& leaf, std::int32_t tag, Vec3 point) {
     Vec3 normal;
@@ -154,187 +164,328 @@ Vec3 outward_normal(const LeafInfo& leaf, std::int32_t tag, Vec3 point) {
     return (tag & tag_flipped) ? -normal : normal;
 }
 
-Vec3 reflect(Vec3 d, Vec3 n) { return d - (2.0f * dot(d, n)) * n; }
+struct Hit4 {
+    vbool4 hit;  // active lanes whose ray met a surface
+    vfloat4 t;
+    Vec4 point;
+    Vec4 normal;  // unit, facing the ray
+    vint4 leaf;
+    vbool4 entering;
+};
 
-// Snell's law, as in the reference; false on total internal reflection.
-bool refract(Vec3 d, Vec3 n, float eta, Vec3& refracted) {
-    float cos_incident = -dot(d, n);
-    float sin2_transmitted = eta * eta * (1.0f - cos_incident * cos_incident);
-    if (sin2_transmitted > 1.0f) {
-        return false;
-    }
-    float cos_transmitted = std::sqrt(1.0f - sin2_transmitted);
-    refracted = normalize(eta * d + (eta * cos_incident - cos_transmitted) * n);
-    return true;
-}
+// The material of each lane's hit, gathered once per hit.
+struct Material4 {
+    Color4 color;
+    vfloat4 ambient, diffuse, phong, phong_size, reflection, transmission, ior;
+};
 
 // The reference's rule (docs/reference-tracer.md): start off the surface on the side the ray leaves to,
 // by 64·ε·(|p|∞ + t), which bounds the hit point's rounding error with an order of magnitude to spare.
-Vec3 spawn_origin(const Hit& hit, Vec3 direction) {
-    float offset = 64.0f * std::numeric_limits<float>::epsilon() * (max_abs_component(hit.point) + hit.t);
-    float side = dot(direction, hit.normal) >= 0.0f ? 1.0f : -1.0f;
+Vec4 spawn_origin(const Hit4& hit, const Vec4& direction) {
+    vfloat4 largest = max(abs(hit.point.x), max(abs(hit.point.y), abs(hit.point.z)));
+    vfloat4 offset = vfloat4(64.0f * std::numeric_limits<float>::epsilon()) * (largest + hit.t);
+    vfloat4 side = select(dot(direction, hit.normal) >= vfloat4(0.0f), vfloat4(1.0f), vfloat4(-1.0f));
     return hit.point + (side * offset) * hit.normal;
 }
 
-class Shader {
+class PacketTracer {
 public:
-    explicit Shader(const CompiledScene& scene) : scene_(scene) {}
+    explicit PacketTracer(const CompiledScene& scene) : scene_(scene) {}
 
-    std::optional<Hit> intersect(const Ray& ray) const {
-        Ray4 ray4(ray, scene_.any_box_test);
+    Hit4 intersect(RayPacket& rays) const {
+        if (scene_.any_box_test) {
+            rays.compute_inverse_direction();
+        }
         Nearest4 nearest;
-        for_each_span(scene_, ray4, [&](const Span4& span, const IntLanes& ids, const FloatLanes&) {
-            keep_nearest(nearest, span, vint4::load(ids.value));
+        for_each_span(scene_.primitives, rays, [&](const Span4& span, std::int32_t leaf, float) {
+            keep_nearest(nearest, span, leaf);
         });
-        ScalarNearest best;
+        if (!scene_.csg_objects.empty()) {
+            nearest_csg_crossings(rays, nearest);
+        }
+        return finish(rays, nearest);
+    }
+
+    Color4 trace(RayPacket& rays, int depth, std::uint64_t& ray_count) const {
+        ray_count += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(movemask(rays.active))));
+        Hit4 hit = intersect(rays);
+        Color4 background = broadcast(scene_.background);
+        if (none(hit.hit)) {
+            return background;
+        }
+        return select(hit.hit, shade(rays, hit, depth, ray_count), background);
+    }
+
+private:
+    // Per lane: CSG objects whose bound the ray meets before its nearest hit so far.
+    void nearest_csg_crossings(const RayPacket& rays, Nearest4& nearest) const {
         alignas(16) float t[4];
         alignas(16) std::int32_t leaf[4], tag[4];
         nearest.t.store(t);
         nearest.leaf.store(leaf);
         nearest.tag.store(tag);
+        for (const CsgObject& object : scene_.csg_objects) {
+            int lanes = lanes_meeting_bound(object, rays, vfloat4::load(t));
+            if (lanes == 0) {
+                continue;
+            }
+            CsgEvaluation evaluation(object, rays);
+            for (int lane = 0; lane < 4; ++lane) {
+                if (((lanes >> lane) & 1) == 0) {
+                    continue;
+                }
+                SpanArray spans;
+                evaluation.evaluate(lane, spans);
+                for (int i = 0; i < spans.count; ++i) {
+                    bool entering = spans.enter[i].t > 0.0f;
+                    const Crossing& crossing = entering ? spans.enter[i] : spans.exit[i];
+                    if (!(crossing.t > 0.0f)) {
+                        continue;
+                    }
+                    if (crossing.leaf >= 0 && (crossing.t < t[lane] || (crossing.t == t[lane] && crossing.leaf < leaf[lane]))) {
+                        t[lane] = crossing.t;
+                        leaf[lane] = crossing.leaf;
+                        tag[lane] = crossing.tag | (entering ? tag_entering : 0);
+                    }
+                    break;
+                }
+            }
+        }
+        nearest.t = vfloat4::load(t);
+        nearest.leaf = vint4::load(leaf);
+        nearest.tag = vint4::load(tag);
+    }
+
+    Hit4 finish(const RayPacket& rays, const Nearest4& nearest) const {
+        Hit4 hit;
+        hit.hit = rays.active & !(nearest.leaf == vint4(-1));
+        hit.t = nearest.t;
+        Vec4 direction{rays.direction[0], rays.direction[1], rays.direction[2]};
+        hit.point = Vec4{rays.origin[0], rays.origin[1], rays.origin[2]} + hit.t * direction;
+        hit.leaf = nearest.leaf;
+        hit.entering = {_mm_castsi128_ps(_mm_cmpeq_epi32((nearest.tag & vint4(tag_entering)).m, vint4(tag_entering).m))};
+        alignas(16) float point[3][4], normal[3][4];
+        alignas(16) std::int32_t leaf[4], tag[4];
+        hit.point.x.store(point[0]);
+        hit.point.y.store(point[1]);
+        hit.point.z.store(point[2]);
+        nearest.leaf.store(leaf);
+        nearest.tag.store(tag);
+        int lanes = movemask(hit.hit);
         for (int lane = 0; lane < 4; ++lane) {
-            best.offer(t[lane], leaf[lane], tag[lane]);
+            Vec3 outward{0.0f, 0.0f, 1.0f};
+            if ((lanes >> lane) & 1) {
+                outward = outward_normal(scene_.leaves[static_cast<std::size_t>(leaf[lane])], tag[lane],
+                                         {point[0][lane], point[1][lane], point[2][lane]});
+            }
+            normal[0][lane] = outward.x;
+            normal[1][lane] = outward.y;
+            normal[2][lane] = outward.z;
         }
-        for_each_csg_object_met(ray4, [&] { return best.t; }, [&](const CsgObject& object) {
-            nearest_csg_crossing(object, ray4, best);
-        });
-        if (best.leaf < 0) {
-            return std::nullopt;
-        }
-        Hit hit;
-        hit.t = best.t;
-        hit.point = ray.origin + best.t * ray.direction;
-        Vec3 outward = outward_normal(scene_.leaves[static_cast<std::size_t>(best.leaf)], best.tag, hit.point);
-        hit.normal = dot(outward, ray.direction) > 0.0f ? -outward : outward;
-        hit.leaf = best.leaf;
-        hit.entering = (best.tag & tag_entering) != 0;
+        Vec4 outward{vfloat4::load(normal[0]), vfloat4::load(normal[1]), vfloat4::load(normal[2])};
+        hit.normal = select(dot(outward, direction) > vfloat4(0.0f), -outward, outward);
         return hit;
     }
 
-    Color trace(const Ray& ray, int depth, std::uint64_t& rays) const {
-        ++rays;
-        std::optional<Hit> hit = intersect(ray);
-        return hit ? shade(ray, *hit, depth, rays) : scene_.background;
+    Material4 gather_material(const Hit4& hit) const {
+        alignas(16) std::int32_t leaf[4];
+        hit.leaf.store(leaf);
+        int lanes = movemask(hit.hit);
+        float values[10][4] = {};
+        for (int lane = 0; lane < 4; ++lane) {
+            if (((lanes >> lane) & 1) == 0) {
+                continue;
+            }
+            const LeafInfo& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
+            const MaterialF& m = scene_.materials[static_cast<std::size_t>(info.material)];
+            const float fields[10] = {m.color.x,  m.color.y,  m.color.z,      m.ambient,      m.diffuse,
+                                      m.phong,    m.phong_size, m.reflection, m.transmission, m.ior};
+            for (int field = 0; field < 10; ++field) {
+                values[field][lane] = fields[field];
+            }
+        }
+        return {{from_lanes(values[0]), from_lanes(values[1]), from_lanes(values[2])},
+                from_lanes(values[3]), from_lanes(values[4]), from_lanes(values[5]), from_lanes(values[6]),
+                from_lanes(values[7]), from_lanes(values[8]), from_lanes(values[9])};
     }
 
-private:
-    // Calls visit(object) for each CSG object whose bound the ray meets between 0 and limit() (read
-    // again before each object, as the nearest hit so far shrinks it).
-    template <typename Limit, typename Visit>
-    void for_each_csg_object_met(const Ray4& ray, Limit&& limit, Visit&& visit) const {
-        for_each_block(scene_.csg_bounds, [&](const BoxBlock& block, const IntLanes& ids, const FloatLanes&) {
-            Span4 span = spans(block, ray);
-            alignas(16) float enter[4], exit[4];
-            span.enter.store(enter);
-            span.exit.store(exit);
-            int met = movemask(span.valid);
-            for (int lane = 0; lane < 4; ++lane) {
-                if (((met >> lane) & 1) && exit[lane] > 0.0f && enter[lane] < limit()) {
-                    visit(scene_.csg_objects[static_cast<std::size_t>(ids.value[lane])]);
+    // Per lane, the product of the transmission of every surface crossed strictly between origin and
+    // light; lanes outside `lanes` get 0.
+    vfloat4 shadow_transmittance(const Vec4& origin, Vec3 light_position, vbool4 lanes) const {
+        Vec4 to_light = broadcast(light_position) - origin;
+        vfloat4 distance = sqrt(dot(to_light, to_light));
+        Vec4 direction = (vfloat4(1.0f) / distance) * to_light;
+        const vfloat4 origins[3] = {origin.x, origin.y, origin.z};
+        const vfloat4 directions[3] = {direction.x, direction.y, direction.z};
+        RayPacket rays(origins, directions, lanes);
+        if (scene_.any_box_test) {
+            rays.compute_inverse_direction();
+        }
+        vfloat4 zero(0.0f), one(1.0f);
+        vfloat4 transmittance = select(lanes, one, zero);
+        vbool4 open = lanes;  // lanes not yet fully blocked
+        auto crossings_between = [&](const Span4& span, vbool4& enter_between, vbool4& exit_between) {
+            enter_between = span.valid & (span.enter > zero) & (span.enter < distance);
+            exit_between = span.valid & (span.exit > zero) & (span.exit < distance);
+        };
+        if (!scene_.any_transparency) {
+            for_each_span(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float) {
+                if (none(open)) {
+                    return;
                 }
-            }
-        });
-    }
-
-    static void nearest_csg_crossing(const CsgObject& object, const Ray4& ray, ScalarNearest& best) {
-        SpanArray spans;
-        CsgEvaluation(object, ray).evaluate(spans);
-        for (int i = 0; i < spans.count; ++i) {
-            bool entering = spans.enter[i].t > 0.0f;
-            const Crossing& crossing = entering ? spans.enter[i] : spans.exit[i];
-            if (crossing.t > 0.0f) {
-                best.offer(crossing.t, crossing.leaf, crossing.tag | (entering ? tag_entering : 0));
-                return;
-            }
+                vbool4 enter_between, exit_between;
+                crossings_between(span, enter_between, exit_between);
+                open = open & !(enter_between | exit_between);
+            });
+        } else {
+            for_each_span(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float transmission) {
+                vbool4 enter_between, exit_between;
+                crossings_between(span, enter_between, exit_between);
+                vfloat4 surface(transmission);
+                transmittance = transmittance * select(enter_between, surface, one) * select(exit_between, surface, one);
+            });
+            open = open & (transmittance > zero);
         }
-    }
-
-    // The product of the transmission of every surface crossed strictly between origin and light.
-    float shadow_transmittance(Vec3 origin, Vec3 light_position) const {
-        Vec3 to_light = light_position - origin;
-        float distance = length(to_light);
-        Ray4 ray(Ray{origin, (1.0f / distance) * to_light}, scene_.any_box_test);
-        vfloat4 zero(0.0f), one(1.0f), limit(distance);
-        vfloat4 transmittance = one;
-        bool blocked = false;
-        for_each_span(scene_, ray, [&](const Span4& span, const IntLanes&, const FloatLanes& transmission) {
-            if (blocked) {
-                return;
-            }
-            vbool4 enter_between = span.valid & (span.enter > zero) & (span.enter < limit);
-            vbool4 exit_between = span.valid & (span.exit > zero) & (span.exit < limit);
-            if (!scene_.any_transparency) {
-                blocked = any(enter_between | exit_between);
-                return;
-            }
-            vfloat4 surface = vfloat4::load(transmission.value);
-            transmittance = transmittance * select(enter_between, surface, one) * select(exit_between, surface, one);
-        });
-        if (blocked) {
-            return 0.0f;
+        transmittance = select(open, transmittance, zero);
+        if (scene_.csg_objects.empty() || none(open)) {
+            return transmittance;
         }
-        float product = transmittance.lane(0) * transmittance.lane(1) * transmittance.lane(2) * transmittance.lane(3);
-        for_each_csg_object_met(ray, [&] { return distance; }, [&](const CsgObject& object) {
-            if (product == 0.0f) {
-                return;
+        alignas(16) float product[4];
+        transmittance.store(product);
+        for (const CsgObject& object : scene_.csg_objects) {
+            int met = lanes_meeting_bound(object, rays, distance) & movemask(open);
+            if (met == 0) {
+                continue;
             }
-            SpanArray spans;
-            CsgEvaluation(object, ray).evaluate(spans);
-            for (int i = 0; i < spans.count; ++i) {
-                for (const Crossing* crossing : {&spans.enter[i], &spans.exit[i]}) {
-                    if (crossing->leaf >= 0 && crossing->t > 0.0f && crossing->t < distance) {
-                        product *= material_of(crossing->leaf).transmission;
+            CsgEvaluation evaluation(object, rays);
+            alignas(16) float limit[4];
+            distance.store(limit);
+            for (int lane = 0; lane < 4; ++lane) {
+                if (((met >> lane) & 1) == 0 || product[lane] == 0.0f) {
+                    continue;
+                }
+                SpanArray spans;
+                evaluation.evaluate(lane, spans);
+                for (int i = 0; i < spans.count; ++i) {
+                    for (const Crossing* crossing : {&spans.enter[i], &spans.exit[i]}) {
+                        if (crossing->leaf >= 0 && crossing->t > 0.0f && crossing->t < limit[lane]) {
+                            product[lane] *= material_transmission(crossing->leaf);
+                        }
                     }
                 }
             }
-        });
-        return product;
+        }
+        return vfloat4::load(product);
     }
 
-    const MaterialF& material_of(std::int32_t leaf) const {
-        return scene_.materials[static_cast<std::size_t>(scene_.leaves[static_cast<std::size_t>(leaf)].material)];
+    float material_transmission(std::int32_t leaf) const {
+        const LeafInfo& info = scene_.leaves[static_cast<std::size_t>(leaf)];
+        return scene_.materials[static_cast<std::size_t>(info.material)].transmission;
     }
 
-    Color shade(const Ray& ray, const Hit& hit, int depth, std::uint64_t& rays) const {
-        const MaterialF& m = material_of(hit.leaf);
-        Color color = m.ambient * (m.color * scene_.ambient_light);
-        Vec3 mirror = reflect(ray.direction, hit.normal);
+    // max(0, R·L)^phong_size per lane; the power is scalar (SSE has none), computed only where needed.
+    static vfloat4 phong_power(vfloat4 cosine, vfloat4 exponent, vbool4 lanes) {
+        alignas(16) float base[4], power[4], result[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        max(vfloat4(0.0f), cosine).store(base);
+        exponent.store(power);
+        int mask = movemask(lanes);
+        for (int lane = 0; lane < 4; ++lane) {
+            if ((mask >> lane) & 1) {
+                result[lane] = std::pow(base[lane], power[lane]);
+            }
+        }
+        return vfloat4::load(result);
+    }
+
+    // I = ambient·C·ambient_light + Σ_lights shadow·(diffuse·C·Lc·(N·L) + phong·Lc·max(0, R·L)^phong_size)
+    //   + reflection·I(reflected) + transmission·I(refracted)          (SCENES.md, "Shading")
+    Color4 shade(const RayPacket& rays, const Hit4& hit, int depth, std::uint64_t& ray_count) const {
+        Material4 m = gather_material(hit);
+        vfloat4 zero(0.0f);
+        Vec4 direction{rays.direction[0], rays.direction[1], rays.direction[2]};
+        Color4 color = m.ambient * (m.color * broadcast(scene_.ambient_light));
+        Vec4 mirror = direction - (vfloat4(2.0f) * dot(direction, hit.normal)) * hit.normal;
+        vbool4 has_phong = hit.hit & (m.phong > zero);
         for (const LightF& light : scene_.lights) {
-            Vec3 to_light = normalize(light.position - hit.point);
-            float lambert = dot(hit.normal, to_light);
-            if (!(lambert > 0.0f)) {
+            Vec4 to_light = normalize(broadcast(light.position) - hit.point);
+            vfloat4 lambert = dot(hit.normal, to_light);
+            vbool4 lit = hit.hit & (lambert > zero);
+            if (none(lit)) {
                 continue;
             }
-            ++rays;
-            float shadow = shadow_transmittance(spawn_origin(hit, to_light), light.position);
-            if (shadow == 0.0f) {
+            ray_count += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(movemask(lit))));
+            vfloat4 shadow = shadow_transmittance(spawn_origin(hit, to_light), light.position, lit);
+            vbool4 reached = lit & (shadow > zero);
+            if (none(reached)) {
                 continue;
             }
-            Color diffuse = (m.diffuse * lambert) * (m.color * light.color);
-            float highlight = m.phong > 0.0f ? m.phong * std::pow(std::fmax(0.0f, dot(mirror, to_light)), m.phong_size) : 0.0f;
-            color += shadow * (diffuse + highlight * light.color);
+            Color4 light_color = broadcast(light.color);
+            Color4 diffuse = (m.diffuse * lambert) * (m.color * light_color);
+            vfloat4 highlight = zero;
+            if (any(has_phong & reached)) {
+                highlight = m.phong * phong_power(dot(mirror, to_light), m.phong_size, has_phong & reached);
+            }
+            color = select(reached, color + shadow * (diffuse + highlight * light_color), color);
         }
         if (depth >= scene_.max_depth) {
             return color;
         }
-        float reflection = m.reflection;
-        if (m.transmission > 0.0f) {
-            float eta = hit.entering ? 1.0f / m.ior : m.ior;
-            Vec3 refracted;
-            if (refract(ray.direction, hit.normal, eta, refracted)) {
-                color += m.transmission * trace({spawn_origin(hit, refracted), refracted}, depth + 1, rays);
-            } else {
-                reflection += m.transmission;
+        vfloat4 reflection = select(hit.hit, m.reflection, zero);
+        vbool4 transparent = hit.hit & (m.transmission > zero);
+        if (scene_.any_transparency && any(transparent)) {
+            vfloat4 eta = select(hit.entering, vfloat4(1.0f) / m.ior, m.ior);
+            vfloat4 cos_incident = -dot(direction, hit.normal);
+            vfloat4 sin2_transmitted = eta * eta * (vfloat4(1.0f) - cos_incident * cos_incident);
+            vbool4 total_internal = transparent & (sin2_transmitted > vfloat4(1.0f));
+            vbool4 refracting = transparent & !total_internal;
+            reflection = reflection + select(total_internal, m.transmission, zero);
+            if (any(refracting)) {
+                vfloat4 cos_transmitted = sqrt(max(vfloat4(1.0f) - sin2_transmitted, zero));
+                Vec4 refracted = normalize(eta * direction + (eta * cos_incident - cos_transmitted) * hit.normal);
+                color = color + select(refracting, m.transmission, zero) *
+                                    trace_secondary(hit, refracted, refracting, depth, ray_count);
             }
         }
-        if (reflection > 0.0f) {
-            color += reflection * trace({spawn_origin(hit, mirror), mirror}, depth + 1, rays);
+        vbool4 reflecting = reflection > zero;
+        if (any(reflecting)) {
+            color = color + reflection * trace_secondary(hit, mirror, reflecting, depth, ray_count);
         }
         return color;
     }
 
+    Color4 trace_secondary(const Hit4& hit, const Vec4& direction, vbool4 lanes, int depth, std::uint64_t& ray_count) const {
+        Vec4 origin = spawn_origin(hit, direction);
+        const vfloat4 origins[3] = {origin.x, origin.y, origin.z};
+        const vfloat4 directions[3] = {direction.x, direction.y, direction.z};
+        RayPacket rays(origins, directions, lanes);
+        Color4 color = trace(rays, depth + 1, ray_count);
+        return select(lanes, color, Color4{vfloat4(0.0f), vfloat4(0.0f), vfloat4(0.0f)});
+    }
+
     const CompiledScene& scene_;
 };
+
+// A single ray through the packet path: all four lanes carry it, only lane 0 is active.
+RayPacket single_ray_packet(const Ray& ray) {
+    const Ray rays[4] = {ray, ray, ray, ray};
+    return RayPacket(rays, vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))});
+}
+
+// The reference's camera (reference/tracer.cpp), in float, for the 2 × 2 pixels whose top-left is
+// (x, y): lane i is pixel (x + i % 2, y + i / 2). Every lane is computed alone, so a pixel's ray is the
+// same in any packet.
+RayPacket primary_packet(const CompiledScene& s, int x, int y, int width, int height, vbool4 active) {
+    float half_height = s.half_width * static_cast<float>(height) / static_cast<float>(width);
+    vfloat4 px = vfloat4(static_cast<float>(x)) + vfloat4(_mm_setr_ps(0.5f, 1.5f, 0.5f, 1.5f));
+    vfloat4 py = vfloat4(static_cast<float>(y)) + vfloat4(_mm_setr_ps(0.5f, 0.5f, 1.5f, 1.5f));
+    vfloat4 u = (vfloat4(2.0f) * px / vfloat4(static_cast<float>(width)) - vfloat4(1.0f)) * vfloat4(s.half_width);
+    vfloat4 v = (vfloat4(1.0f) - vfloat4(2.0f) * py / vfloat4(static_cast<float>(height))) * vfloat4(half_height);
+    Vec4 direction = normalize(broadcast(s.forward) + u * broadcast(s.right) + v * broadcast(s.up));
+    Vec4 eye = broadcast(s.eye);
+    const vfloat4 origins[3] = {eye.x, eye.y, eye.z};
+    const vfloat4 directions[3] = {direction.x, direction.y, direction.z};
+    return RayPacket(origins, directions, active);
+}
 
 }  // namespace
 
@@ -343,52 +494,79 @@ Tracer::Tracer(const scene::Scene& scene) : scene_(std::make_unique<CompiledScen
 Tracer::~Tracer() = default;
 
 std::optional<Hit> Tracer::intersect(const Ray& ray) const {
-    return Shader(*scene_).intersect(ray);
+    RayPacket rays = single_ray_packet(ray);
+    Hit4 hit4 = PacketTracer(*scene_).intersect(rays);
+    if (!(movemask(hit4.hit) & 1)) {
+        return std::nullopt;
+    }
+    Hit hit;
+    hit.t = hit4.t.lane(0);
+    hit.point = {hit4.point.x.lane(0), hit4.point.y.lane(0), hit4.point.z.lane(0)};
+    hit.normal = {hit4.normal.x.lane(0), hit4.normal.y.lane(0), hit4.normal.z.lane(0)};
+    alignas(16) std::int32_t leaf[4];
+    hit4.leaf.store(leaf);
+    hit.leaf = leaf[0];
+    hit.entering = (movemask(hit4.entering) & 1) != 0;
+    return hit;
 }
 
 Color Tracer::trace(const Ray& ray, int depth, std::uint64_t* rays) const {
+    RayPacket packet = single_ray_packet(ray);
     std::uint64_t count = 0;
-    Color color = Shader(*scene_).trace(ray, depth, count);
+    Color4 color = PacketTracer(*scene_).trace(packet, depth, count);
     if (rays != nullptr) {
         *rays += count;
     }
-    return color;
+    return {color.x.lane(0), color.y.lane(0), color.z.lane(0)};
 }
 
-// The reference's camera (reference/tracer.cpp), in float.
 Ray Tracer::primary_ray(int x, int y, int width, int height) const {
-    const CompiledScene& s = *scene_;
-    float half_height = s.half_width * static_cast<float>(height) / static_cast<float>(width);
-    float u = (2.0f * (static_cast<float>(x) + 0.5f) / static_cast<float>(width) - 1.0f) * s.half_width;
-    float v = (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / static_cast<float>(height)) * half_height;
-    return {s.eye, normalize(s.forward + u * s.right + v * s.up)};
+    RayPacket packet = primary_packet(*scene_, x, y, width, height, vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))});
+    return {{packet.origin[0].lane(0), packet.origin[1].lane(0), packet.origin[2].lane(0)},
+            {packet.direction[0].lane(0), packet.direction[1].lane(0), packet.direction[2].lane(0)}};
 }
 
-// Tiles of 16 × 16 pixels keep a worker's rays coherent in cache; each pixel is computed alone, so the
-// image is bit-identical for any thread count.
+// Tiles of 16 × 16 pixels are handed to worker threads; within a tile, 2 × 2 pixels make a packet
+// (coherent rays: they meet the same primitives). Each lane is computed alone, so the image is
+// bit-identical for any thread count and equals the per-ray API's trace() of each pixel.
 RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     constexpr int tile = 16;
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
     Tracer tracer(scene);
+    PacketTracer packets(tracer.compiled());
     Image image(size.width, size.height);
     int tiles_x = (size.width + tile - 1) / tile;
     int tiles_y = (size.height + tile - 1) / tile;
-    std::uint64_t rays = parallel_for(
+    std::uint64_t ray_count = parallel_for(
         tiles_x * tiles_y, options.threads,
         [&](int index) {
             std::uint64_t tile_rays = 0;
             int x0 = (index % tiles_x) * tile;
             int y0 = (index / tiles_x) * tile;
-            for (int y = y0; y < std::min(y0 + tile, size.height); ++y) {
-                for (int x = x0; x < std::min(x0 + tile, size.width); ++x) {
-                    Color c = tracer.trace(tracer.primary_ray(x, y, size.width, size.height), 1, &tile_rays);
-                    image.at(x, y) = {c.x, c.y, c.z};
+            for (int y = y0; y < std::min(y0 + tile, size.height); y += 2) {
+                for (int x = x0; x < std::min(x0 + tile, size.width); x += 2) {
+                    alignas(16) std::int32_t active[4];
+                    for (int lane = 0; lane < 4; ++lane) {
+                        active[lane] = x + (lane & 1) < size.width && y + (lane >> 1) < size.height ? -1 : 0;
+                    }
+                    RayPacket packet = primary_packet(tracer.compiled(), x, y, size.width, size.height,
+                                                      vbool4{_mm_castsi128_ps(vint4::load(active).m)});
+                    Color4 color = packets.trace(packet, 1, tile_rays);
+                    alignas(16) float r[4], g[4], b[4];
+                    color.x.store(r);
+                    color.y.store(g);
+                    color.z.store(b);
+                    for (int lane = 0; lane < 4; ++lane) {
+                        if (active[lane] != 0) {
+                            image.at(x + (lane & 1), y + (lane >> 1)) = {r[lane], g[lane], b[lane]};
+                        }
+                    }
                 }
             }
             return tile_rays;
         },
         options.progress);
-    return {std::move(image), rays};
+    return {std::move(image), ray_count};
 }
 
 }  // namespace twinray::sse
