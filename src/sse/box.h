@@ -5,9 +5,10 @@
 
 namespace twinray::sse {
 
-struct alignas(16) BoxF {
-    float min[4];  // x, y, z, unused
-    float max[4];
+// Parameters stored already broadcast to four lanes (see SphereF).
+struct BoxF {
+    vfloat4 min[3];
+    vfloat4 max[3];
 };
 
 // Face code: 2·axis + 1 where the outward normal is +axis, 2·axis where it is −axis.
@@ -25,8 +26,8 @@ inline Span4 spans(const BoxF& box, const RayPacket& rays) {
     span.exit = vfloat4(infinity);
     span.valid = all_true();
     for (int axis = 0; axis < 3; ++axis) {
-        vfloat4 low(box.min[axis]);
-        vfloat4 high(box.max[axis]);
+        vfloat4 low = box.min[axis];
+        vfloat4 high = box.max[axis];
         vfloat4 origin = rays.origin[axis];
         vfloat4 direction = rays.direction[axis];
         vbool4 parallel = direction == zero;

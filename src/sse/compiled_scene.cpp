@@ -9,28 +9,29 @@
 namespace twinray::sse {
 namespace {
 
+vfloat4 lanes_of(double value) { return vfloat4(static_cast<float>(value)); }
+
 PlaneF convert(const scene::Plane& plane) {
-    return {{static_cast<float>(plane.normal[0]), static_cast<float>(plane.normal[1]), static_cast<float>(plane.normal[2])},
-            static_cast<float>(plane.offset)};
+    return {{lanes_of(plane.normal[0]), lanes_of(plane.normal[1]), lanes_of(plane.normal[2])}, lanes_of(plane.offset)};
 }
 SphereF convert(const scene::Sphere& sphere) {
-    return {{static_cast<float>(sphere.center[0]), static_cast<float>(sphere.center[1]), static_cast<float>(sphere.center[2])},
-            static_cast<float>(sphere.radius)};
+    float radius = static_cast<float>(sphere.radius);
+    return {{lanes_of(sphere.center[0]), lanes_of(sphere.center[1]), lanes_of(sphere.center[2])}, vfloat4(radius * radius)};
 }
 // Axis and height are derived in float from the float end points, as the reference<float> does.
 CylinderF convert(const scene::Cylinder& cylinder) {
     Vec3 base(cylinder.base);
     Vec3 along = Vec3(cylinder.cap) - base;
     Vec3 axis = normalize(along);
-    return {{base.x, base.y, base.z}, length(along), {axis.x, axis.y, axis.z}, static_cast<float>(cylinder.radius)};
+    float radius = static_cast<float>(cylinder.radius);
+    return {{vfloat4(base.x), vfloat4(base.y), vfloat4(base.z)},
+            {vfloat4(axis.x), vfloat4(axis.y), vfloat4(axis.z)},
+            vfloat4(length(along)),
+            vfloat4(radius * radius)};
 }
 BoxF convert(const scene::Box& box) {
-    BoxF out{};
-    for (int axis = 0; axis < 3; ++axis) {
-        out.min[axis] = static_cast<float>(box.min[axis]);
-        out.max[axis] = static_cast<float>(box.max[axis]);
-    }
-    return out;
+    return {{lanes_of(box.min[0]), lanes_of(box.min[1]), lanes_of(box.min[2])},
+            {lanes_of(box.max[0]), lanes_of(box.max[1]), lanes_of(box.max[2])}};
 }
 
 template <typename Primitive, typename Shape>

@@ -5,11 +5,12 @@
 
 namespace twinray::sse {
 
-struct alignas(16) CylinderF {
-    float base[3];
-    float height;   // |cap − base|
-    float axis[3];  // unit, base towards cap
-    float radius;
+// Parameters stored already broadcast to four lanes (see SphereF).
+struct CylinderF {
+    vfloat4 base[3];
+    vfloat4 axis[3];  // unit, base towards cap
+    vfloat4 height;   // |cap − base|
+    vfloat4 radius_squared;
 };
 
 // Face codes.
@@ -23,8 +24,8 @@ constexpr int cylinder_top_cap = 2;   // outward normal +axis
 inline Span4 spans(const CylinderF& cylinder, const RayPacket& rays) {
     vfloat4 axis[3], f[3], f_perp[3], d_perp[3];
     for (int i = 0; i < 3; ++i) {
-        axis[i] = vfloat4(cylinder.axis[i]);
-        f[i] = rays.origin[i] - vfloat4(cylinder.base[i]);
+        axis[i] = cylinder.axis[i];
+        f[i] = rays.origin[i] - cylinder.base[i];
     }
     vfloat4 axial_origin = dot3(f, axis);
     vfloat4 axial_direction = dot3(rays.direction, axis);
@@ -32,14 +33,14 @@ inline Span4 spans(const CylinderF& cylinder, const RayPacket& rays) {
         f_perp[i] = f[i] - axial_origin * axis[i];
         d_perp[i] = rays.direction[i] - axial_direction * axis[i];
     }
-    vfloat4 r2(cylinder.radius * cylinder.radius);
+    vfloat4 r2 = cylinder.radius_squared;
     vfloat4 a = dot3(d_perp, d_perp);
     vfloat4 c = dot3(f_perp, f_perp) - r2;
     vfloat4 moment[3] = {f_perp[1] * d_perp[2] - f_perp[2] * d_perp[1], f_perp[2] * d_perp[0] - f_perp[0] * d_perp[2],
                          f_perp[0] * d_perp[1] - f_perp[1] * d_perp[0]};
     vfloat4 discriminant = a * r2 - dot3(moment, moment);
     vfloat4 zero(0.0f);
-    vfloat4 height(cylinder.height);
+    vfloat4 height = cylinder.height;
     vbool4 along_axis = a == zero;
     vbool4 side_valid = select_mask(along_axis, c < zero, discriminant >= zero);
     vbool4 slab_valid = (axial_direction > zero) | (axial_direction < zero) |
@@ -56,9 +57,11 @@ inline Span4 spans(const CylinderF& cylinder, const RayPacket& rays) {
     vfloat4 side_near = select(along_axis, vfloat4(-infinity), min(t0, t1));
     vfloat4 side_far = select(along_axis, vfloat4(infinity), max(t0, t1));
 
+    // Both cap planes share the denominator: one reciprocal, two multiplies (one extra rounding in t).
     vbool4 parallel_to_caps = axial_direction == zero;
-    vfloat4 t_base = -axial_origin / axial_direction;
-    vfloat4 t_top = (height - axial_origin) / axial_direction;
+    vfloat4 inverse_axial = vfloat4(1.0f) / axial_direction;
+    vfloat4 t_base = -axial_origin * inverse_axial;
+    vfloat4 t_top = (height - axial_origin) * inverse_axial;
     vbool4 towards_top = axial_direction > zero;
     vfloat4 slab_near = select(parallel_to_caps, vfloat4(-infinity), select(towards_top, t_base, t_top));
     vfloat4 slab_far = select(parallel_to_caps, vfloat4(infinity), select(towards_top, t_top, t_base));

@@ -64,14 +64,19 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
     nearest.tag = select(nearer, tag, nearest.tag);
 }
 
+// Primitives that no ray of the packet meets are skipped before any use of their span: in a coherent
+// packet that is most of them.
 template <typename Primitive, typename Visit>
 void for_each_primitive(const PrimitiveList<Primitive>& list, const RayPacket& rays, Visit&& visit) {
     for (std::size_t i = 0; i < list.items.size(); ++i) {
-        visit(spans(list.items[i], rays), list.ids[i], list.transmission[i]);
+        Span4 span = spans(list.items[i], rays);
+        if (any(span.valid)) {
+            visit(span, list.ids[i], list.transmission[i]);
+        }
     }
 }
 
-// Calls visit(span, id, transmission) for every primitive of every type present.
+// Calls visit(span, id, transmission) for every primitive of every type present that some ray meets.
 template <typename Visit>
 void for_each_span(const PrimitiveLists& lists, const RayPacket& rays, Visit&& visit) {
     for_each_primitive(lists.planes, rays, visit);
@@ -85,6 +90,7 @@ void for_each_span(const PrimitiveLists& lists, const RayPacket& rays, Visit&& v
 class CsgEvaluation {
 public:
     CsgEvaluation(const CsgObject& object, const RayPacket& rays) : object_(object) {
+        std::fill(valid_, valid_ + object.slot_leaf.size(), 0);  // leaves no ray meets are not visited
         for_each_span(object.leaves, rays, [&](const Span4& span, std::int32_t slot, float) {
             span.enter.store(enter_[slot]);
             span.exit.store(exit_[slot]);
@@ -140,12 +146,18 @@ inline int lanes_meeting_bound(const CsgObject& object, const RayPacket& rays, v
     return movemask(rays.active & span.valid & (span.exit > vfloat4(0.0f)) & (span.enter < limit));
 }
 
-Vec3 outward_normal(const LeafInfo& leaf, std::int32_t tag, Vec3 point) {
+// The outward normal at a hit, not yet of unit length for spheres and cylinder sides (finish()
+// normalises those four lanes at once).
+Vec3 outward_direction(const LeafInfo& leaf, std::int32_t tag, Vec3 point, bool& needs_normalizing) {
     Vec3 normal;
     std::int32_t face = tag & tag_face_mask;
+    needs_normalizing = false;
     switch (leaf.kind) {
         case LeafKind::plane: normal = leaf.direction; break;
-        case LeafKind::sphere: normal = normalize(point - leaf.position); break;
+        case LeafKind::sphere:
+            normal = point - leaf.position;
+            needs_normalizing = true;
+            break;
         case LeafKind::box: {
             float sign = (face & 1) ? 1.0f : -1.0f;
             int axis = face >> 1;
@@ -155,7 +167,8 @@ Vec3 outward_normal(const LeafInfo& leaf, std::int32_t tag, Vec3 point) {
         case LeafKind::cylinder:
             if (face == cylinder_side) {
                 Vec3 w = point - leaf.position;
-                normal = normalize(w - dot(w, leaf.direction) * leaf.direction);
+                normal = w - dot(w, leaf.direction) * leaf.direction;
+                needs_normalizing = true;
             } else {
                 normal = face == cylinder_top_cap ? leaf.direction : -leaf.direction;
             }
@@ -265,7 +278,7 @@ private:
         hit.leaf = nearest.leaf;
         hit.entering = {_mm_castsi128_ps(_mm_cmpeq_epi32((nearest.tag & vint4(tag_entering)).m, vint4(tag_entering).m))};
         alignas(16) float point[3][4], normal[3][4];
-        alignas(16) std::int32_t leaf[4], tag[4];
+        alignas(16) std::int32_t leaf[4], tag[4], curved[4];
         hit.point.x.store(point[0]);
         hit.point.y.store(point[1]);
         hit.point.z.store(point[2]);
@@ -274,15 +287,21 @@ private:
         int lanes = movemask(hit.hit);
         for (int lane = 0; lane < 4; ++lane) {
             Vec3 outward{0.0f, 0.0f, 1.0f};
+            bool needs_normalizing = false;
             if ((lanes >> lane) & 1) {
-                outward = outward_normal(scene_.leaves[static_cast<std::size_t>(leaf[lane])], tag[lane],
-                                         {point[0][lane], point[1][lane], point[2][lane]});
+                outward = outward_direction(scene_.leaves[static_cast<std::size_t>(leaf[lane])], tag[lane],
+                                            {point[0][lane], point[1][lane], point[2][lane]}, needs_normalizing);
             }
             normal[0][lane] = outward.x;
             normal[1][lane] = outward.y;
             normal[2][lane] = outward.z;
+            curved[lane] = needs_normalizing ? -1 : 0;
         }
         Vec4 outward{vfloat4::load(normal[0]), vfloat4::load(normal[1]), vfloat4::load(normal[2])};
+        vbool4 normalize_lanes{_mm_castsi128_ps(vint4::load(curved).m)};
+        if (any(normalize_lanes)) {
+            outward = select(normalize_lanes, normalize(outward), outward);
+        }
         hit.normal = select(dot(outward, direction) > vfloat4(0.0f), -outward, outward);
         return hit;
     }
