@@ -24,10 +24,22 @@ CylinderF convert(const scene::Cylinder& cylinder) {
     Vec3 along = Vec3(cylinder.cap) - base;
     Vec3 axis = normalize(along);
     float radius = static_cast<float>(cylinder.radius);
+    // The bounding sphere in double, widened by 1e-4 relative: far beyond any float rounding, so that
+    // culling never loses a hit.
+    scene::Vec3 middle;
+    double half_length_squared = 0;
+    for (int i = 0; i < 3; ++i) {
+        middle[i] = 0.5 * (cylinder.base[i] + cylinder.cap[i]);
+        half_length_squared += 0.25 * (cylinder.cap[i] - cylinder.base[i]) * (cylinder.cap[i] - cylinder.base[i]);
+    }
+    double bound = std::sqrt(half_length_squared + cylinder.radius * cylinder.radius);
+    bound += 1e-4 * (bound + std::max({std::fabs(middle[0]), std::fabs(middle[1]), std::fabs(middle[2])}));
     return {{vfloat4(base.x), vfloat4(base.y), vfloat4(base.z)},
             {vfloat4(axis.x), vfloat4(axis.y), vfloat4(axis.z)},
             vfloat4(length(along)),
-            vfloat4(radius * radius)};
+            vfloat4(radius * radius),
+            {lanes_of(middle[0]), lanes_of(middle[1]), lanes_of(middle[2])},
+            lanes_of(bound * bound)};
 }
 BoxF convert(const scene::Box& box) {
     return {{lanes_of(box.min[0]), lanes_of(box.min[1]), lanes_of(box.min[2])},

@@ -13,7 +13,7 @@ struct PlaneF {
 
 // t = (d − n·o) / (n·d), as in the reference (reference/plane.h). Moving out of the half-space the span
 // is (−∞, t]; moving in, [t, +∞); parallel, the whole line if the origin is strictly inside, else none.
-inline Span4 spans(const PlaneF& plane, const RayPacket& rays) {
+TWINRAY_KERNEL Span4 spans(const PlaneF& plane, const RayPacket& rays) {
     vfloat4 approach = dot3(plane.normal, rays.direction);
     vfloat4 height = plane.offset - dot3(plane.normal, rays.origin);
     vfloat4 zero(0.0f);

@@ -7,6 +7,10 @@
 
 #include <cstdint>
 
+// Kernels are inlined into their loops even when large (the cylinder's is): a call would pass the
+// four spans through memory, which costs more than the kernel saves in code size.
+#define TWINRAY_KERNEL inline __attribute__((always_inline))
+
 namespace twinray::sse {
 
 struct vbool4 {

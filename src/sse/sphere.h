@@ -15,7 +15,7 @@ struct SphereF {
 // Same formula as the reference (reference/sphere.h): with f = o − c, b = f·d,
 // Δ = r² − |f − b·d|² (no cancellation far from the sphere), q = −b − sign(b)·√Δ, t = q and c/q.
 // The division waits until some lane is known to hit (the thesis: divide only where needed).
-inline Span4 spans(const SphereF& sphere, const RayPacket& rays) {
+TWINRAY_KERNEL Span4 spans(const SphereF& sphere, const RayPacket& rays) {
     vfloat4 f[3], perpendicular[3];
     for (int axis = 0; axis < 3; ++axis) {
         f[axis] = rays.origin[axis] - sphere.center[axis];

@@ -20,6 +20,12 @@ namespace {
 // Tag bits of a nearest hit: the crossing's tag (face, flipped) plus whether the ray enters there.
 constexpr std::int32_t tag_entering = 0x20;
 
+// Rays in a lane mask (a popcount without relying on the POPCNT instruction, which SSE4.1 lacks).
+inline std::uint64_t lane_count(vbool4 mask) {
+    constexpr std::uint8_t bits[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+    return bits[movemask(mask)];
+}
+
 struct Vec4 {
     vfloat4 x, y, z;
 
@@ -220,7 +226,7 @@ public:
     }
 
     Color4 trace(RayPacket& rays, int depth, std::uint64_t& ray_count) const {
-        ray_count += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(movemask(rays.active))));
+        ray_count += lane_count(rays.active);
         Hit4 hit = intersect(rays);
         Color4 background = broadcast(scene_.background);
         if (none(hit.hit)) {
@@ -272,6 +278,9 @@ private:
     Hit4 finish(const RayPacket& rays, const Nearest4& nearest) const {
         Hit4 hit;
         hit.hit = rays.active & !(nearest.leaf == vint4(-1));
+        if (none(hit.hit)) {
+            return hit;
+        }
         hit.t = nearest.t;
         Vec4 direction{rays.direction[0], rays.direction[1], rays.direction[2]};
         hit.point = Vec4{rays.origin[0], rays.origin[1], rays.origin[2]} + hit.t * direction;
@@ -432,7 +441,7 @@ private:
             if (none(lit)) {
                 continue;
             }
-            ray_count += static_cast<std::uint64_t>(__builtin_popcount(static_cast<unsigned>(movemask(lit))));
+            ray_count += lane_count(lit);
             vfloat4 shadow = shadow_transmittance(spawn_origin(hit, to_light), light.position, lit);
             vbool4 reached = lit & (shadow > zero);
             if (none(reached)) {
@@ -490,21 +499,36 @@ RayPacket single_ray_packet(const Ray& ray) {
     return RayPacket(rays, vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))});
 }
 
-// The reference's camera (reference/tracer.cpp), in float, for the 2 × 2 pixels whose top-left is
-// (x, y): lane i is pixel (x + i % 2, y + i / 2). Every lane is computed alone, so a pixel's ray is the
-// same in any packet.
-RayPacket primary_packet(const CompiledScene& s, int x, int y, int width, int height, vbool4 active) {
-    float half_height = s.half_width * static_cast<float>(height) / static_cast<float>(width);
-    vfloat4 px = vfloat4(static_cast<float>(x)) + vfloat4(_mm_setr_ps(0.5f, 1.5f, 0.5f, 1.5f));
-    vfloat4 py = vfloat4(static_cast<float>(y)) + vfloat4(_mm_setr_ps(0.5f, 0.5f, 1.5f, 1.5f));
-    vfloat4 u = (vfloat4(2.0f) * px / vfloat4(static_cast<float>(width)) - vfloat4(1.0f)) * vfloat4(s.half_width);
-    vfloat4 v = (vfloat4(1.0f) - vfloat4(2.0f) * py / vfloat4(static_cast<float>(height))) * vfloat4(half_height);
-    Vec4 direction = normalize(broadcast(s.forward) + u * broadcast(s.right) + v * broadcast(s.up));
-    Vec4 eye = broadcast(s.eye);
-    const vfloat4 origins[3] = {eye.x, eye.y, eye.z};
-    const vfloat4 directions[3] = {direction.x, direction.y, direction.z};
-    return RayPacket(origins, directions, active);
-}
+// The reference's camera (reference/tracer.cpp) in float, set up once per image size: the pixel
+// centre (px, py) maps to u = (px·2/W − 1)·tan(fov/2) and v = (1 − py·2/H)·tan(fov/2)·H/W, with the
+// two divisions hoisted out of the per-pixel work.
+struct CameraPacket {
+    Vec4 eye, forward, right, up;
+    vfloat4 u_per_pixel, v_per_pixel, half_width, half_height;
+
+    CameraPacket(const CompiledScene& s, int width, int height)
+        : eye(broadcast(s.eye)),
+          forward(broadcast(s.forward)),
+          right(broadcast(s.right)),
+          up(broadcast(s.up)),
+          u_per_pixel(2.0f / static_cast<float>(width)),
+          v_per_pixel(2.0f / static_cast<float>(height)),
+          half_width(s.half_width),
+          half_height(s.half_width * static_cast<float>(height) / static_cast<float>(width)) {}
+
+    // The 2 × 2 pixels whose top-left is (x, y): lane i is pixel (x + i % 2, y + i / 2). Every lane is
+    // computed alone, so a pixel's ray is the same in any packet.
+    RayPacket rays(int x, int y, vbool4 active) const {
+        vfloat4 px = vfloat4(static_cast<float>(x)) + vfloat4(_mm_setr_ps(0.5f, 1.5f, 0.5f, 1.5f));
+        vfloat4 py = vfloat4(static_cast<float>(y)) + vfloat4(_mm_setr_ps(0.5f, 0.5f, 1.5f, 1.5f));
+        vfloat4 u = (px * u_per_pixel - vfloat4(1.0f)) * half_width;
+        vfloat4 v = (vfloat4(1.0f) - py * v_per_pixel) * half_height;
+        Vec4 direction = normalize(forward + u * right + v * up);
+        const vfloat4 origins[3] = {eye.x, eye.y, eye.z};
+        const vfloat4 directions[3] = {direction.x, direction.y, direction.z};
+        return RayPacket(origins, directions, active);
+    }
+};
 
 }  // namespace
 
@@ -540,7 +564,7 @@ Color Tracer::trace(const Ray& ray, int depth, std::uint64_t* rays) const {
 }
 
 Ray Tracer::primary_ray(int x, int y, int width, int height) const {
-    RayPacket packet = primary_packet(*scene_, x, y, width, height, vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))});
+    RayPacket packet = CameraPacket(*scene_, width, height).rays(x, y, vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))});
     return {{packet.origin[0].lane(0), packet.origin[1].lane(0), packet.origin[2].lane(0)},
             {packet.direction[0].lane(0), packet.direction[1].lane(0), packet.direction[2].lane(0)}};
 }
@@ -553,6 +577,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
     Tracer tracer(scene);
     PacketTracer packets(tracer.compiled());
+    CameraPacket camera(tracer.compiled(), size.width, size.height);
     Image image(size.width, size.height);
     int tiles_x = (size.width + tile - 1) / tile;
     int tiles_y = (size.height + tile - 1) / tile;
@@ -568,8 +593,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
                     for (int lane = 0; lane < 4; ++lane) {
                         active[lane] = x + (lane & 1) < size.width && y + (lane >> 1) < size.height ? -1 : 0;
                     }
-                    RayPacket packet = primary_packet(tracer.compiled(), x, y, size.width, size.height,
-                                                      vbool4{_mm_castsi128_ps(vint4::load(active).m)});
+                    RayPacket packet = camera.rays(x, y, vbool4{_mm_castsi128_ps(vint4::load(active).m)});
                     Color4 color = packets.trace(packet, 1, tile_rays);
                     alignas(16) float r[4], g[4], b[4];
                     color.x.store(r);
