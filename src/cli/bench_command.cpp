@@ -64,6 +64,8 @@ int run_bench(const BenchArguments& arguments) {
         {"ref<float>", "reference-float", 1},
         {"sse 1T", "sse", 1},
         {"sse " + std::to_string(all_threads) + "T", "sse", all_threads},
+        // A control: how the plain scalar code scales on this machine, for reading the sse column.
+        {"ref " + std::to_string(all_threads) + "T", "reference", all_threads},
     };
     if (std::string reason = tracer_unavailable_reason("sse"); !reason.empty()) {
         std::cerr << "twinray bench: " << reason << "\n";
@@ -75,7 +77,7 @@ int run_bench(const BenchArguments& arguments) {
     for (const Configuration& configuration : configurations) {
         std::printf(" %12s", configuration.label.c_str());
     }
-    std::printf(" %12s %12s %12s\n", "sse/double", "sse/float", "nT/1T");
+    std::printf(" %12s %12s %12s %12s\n", "sse/double", "sse/float", "sse nT/1T", "ref nT/1T");
     for (const std::string& path : scene_paths) {
         scene::Scene scene;
         try {
@@ -87,7 +89,7 @@ int run_bench(const BenchArguments& arguments) {
         // Configurations take turns within each run, and each ratio is the median of per-run ratios, so
         // a slow spell of a shared machine weighs on both sides of a ratio instead of on one column.
         std::vector<std::vector<double>> speeds(configurations.size());
-        std::vector<double> over_double, over_float, over_one_thread;
+        std::vector<double> over_double, over_float, over_one_thread, reference_over_one_thread;
         for (int run = 0; run < arguments.runs; ++run) {
             std::vector<double> this_run;
             for (const Configuration& configuration : configurations) {
@@ -99,12 +101,14 @@ int run_bench(const BenchArguments& arguments) {
             over_double.push_back(this_run[2] / this_run[0]);
             over_float.push_back(this_run[2] / this_run[1]);
             over_one_thread.push_back(this_run[3] / this_run[2]);
+            reference_over_one_thread.push_back(this_run[4] / this_run[0]);
         }
         std::printf("%-12s", fs::path(path).stem().string().c_str());
         for (const std::vector<double>& configuration_speeds : speeds) {
             std::printf(" %12.2f", median(configuration_speeds));
         }
-        std::printf(" %11.2fx %11.2fx %11.2fx\n", median(over_double), median(over_float), median(over_one_thread));
+        std::printf(" %11.2fx %11.2fx %11.2fx %11.2fx\n", median(over_double), median(over_float), median(over_one_thread),
+                    median(reference_over_one_thread));
         std::fflush(stdout);
     }
     return exit_success;
