@@ -9,6 +9,36 @@
 namespace twinray::sse {
 namespace {
 
+struct BoundingSphere {
+    scene::Vec3 center;
+    double radius;
+};
+
+BoundingSphere bounding_sphere(const scene::Plane&) {
+    return {{0, 0, 0}, std::numeric_limits<double>::infinity()};
+}
+BoundingSphere bounding_sphere(const scene::Sphere& sphere) { return {sphere.center, sphere.radius}; }
+BoundingSphere bounding_sphere(const scene::Cylinder& cylinder) {
+    BoundingSphere out{};
+    double half_length_squared = 0;
+    for (int i = 0; i < 3; ++i) {
+        out.center[i] = 0.5 * (cylinder.base[i] + cylinder.cap[i]);
+        half_length_squared += 0.25 * (cylinder.cap[i] - cylinder.base[i]) * (cylinder.cap[i] - cylinder.base[i]);
+    }
+    out.radius = std::sqrt(half_length_squared + cylinder.radius * cylinder.radius);
+    return out;
+}
+BoundingSphere bounding_sphere(const scene::Box& box) {
+    BoundingSphere out{};
+    double half_diagonal_squared = 0;
+    for (int i = 0; i < 3; ++i) {
+        out.center[i] = 0.5 * (box.min[i] + box.max[i]);
+        half_diagonal_squared += 0.25 * (box.max[i] - box.min[i]) * (box.max[i] - box.min[i]);
+    }
+    out.radius = std::sqrt(half_diagonal_squared);
+    return out;
+}
+
 vfloat4 lanes_of(double value) { return vfloat4(static_cast<float>(value)); }
 
 PlaneF convert(const scene::Plane& plane) {
@@ -24,22 +54,17 @@ CylinderF convert(const scene::Cylinder& cylinder) {
     Vec3 along = Vec3(cylinder.cap) - base;
     Vec3 axis = normalize(along);
     float radius = static_cast<float>(cylinder.radius);
-    // The bounding sphere in double, widened by 1e-4 relative: far beyond any float rounding, so that
-    // culling never loses a hit.
-    scene::Vec3 middle;
-    double half_length_squared = 0;
-    for (int i = 0; i < 3; ++i) {
-        middle[i] = 0.5 * (cylinder.base[i] + cylinder.cap[i]);
-        half_length_squared += 0.25 * (cylinder.cap[i] - cylinder.base[i]) * (cylinder.cap[i] - cylinder.base[i]);
-    }
-    double bound = std::sqrt(half_length_squared + cylinder.radius * cylinder.radius);
-    bound += 1e-4 * (bound + std::max({std::fabs(middle[0]), std::fabs(middle[1]), std::fabs(middle[2])}));
+    // The bounding sphere widened by 1e-4 relative: far beyond any float rounding, so that culling
+    // never loses a hit.
+    BoundingSphere bound = bounding_sphere(cylinder);
+    const scene::Vec3& middle = bound.center;
+    double widened = bound.radius + 1e-4 * (bound.radius + std::max({std::fabs(middle[0]), std::fabs(middle[1]), std::fabs(middle[2])}));
     return {{vfloat4(base.x), vfloat4(base.y), vfloat4(base.z)},
             {vfloat4(axis.x), vfloat4(axis.y), vfloat4(axis.z)},
             vfloat4(length(along)),
             vfloat4(radius * radius),
             {lanes_of(middle[0]), lanes_of(middle[1]), lanes_of(middle[2])},
-            lanes_of(bound * bound)};
+            lanes_of(widened * widened)};
 }
 BoxF convert(const scene::Box& box) {
     return {{lanes_of(box.min[0]), lanes_of(box.min[1]), lanes_of(box.min[2])},
@@ -51,6 +76,9 @@ void append(PrimitiveList<Primitive>& list, const Shape& shape, std::int32_t id,
     list.items.push_back(convert(shape));
     list.ids.push_back(id);
     list.transmission.push_back(transmission);
+    BoundingSphere bound = bounding_sphere(shape);
+    list.bound_centers.push_back(bound.center);
+    list.bound_radii.push_back(bound.radius);
 }
 
 struct Bounds {

@@ -18,11 +18,30 @@ namespace twinray::sse {
 
 // Primitives of one type. `ids` are global leaf indices at top level and slots within a CSG object;
 // `transmission` is that of each primitive's material, for shadow rays.
+// `bound_centers`/`bound_radii` are a sphere around each primitive (radius +∞ for planes), for
+// culling whole tiles of primary rays.
 template <typename Primitive>
 struct PrimitiveList {
     std::vector<Primitive> items;
     std::vector<std::int32_t> ids;
     std::vector<float> transmission;
+    std::vector<scene::Vec3> bound_centers;
+    std::vector<double> bound_radii;
+
+    void clear() {
+        items.clear();
+        ids.clear();
+        transmission.clear();
+        bound_centers.clear();
+        bound_radii.clear();
+    }
+    void push_back_from(const PrimitiveList& other, std::size_t i) {
+        items.push_back(other.items[i]);
+        ids.push_back(other.ids[i]);
+        transmission.push_back(other.transmission[i]);
+        bound_centers.push_back(other.bound_centers[i]);
+        bound_radii.push_back(other.bound_radii[i]);
+    }
 };
 
 struct PrimitiveLists {

@@ -3,6 +3,7 @@
 #include "sse/compiled_scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -211,12 +212,14 @@ class PacketTracer {
 public:
     explicit PacketTracer(const CompiledScene& scene) : scene_(scene) {}
 
-    Hit4 intersect(RayPacket& rays) const {
+    // `candidates` are the top-level primitives that can be hit: all of them, or for primary rays the
+    // ones a tile can see (TileCulling).
+    Hit4 intersect(RayPacket& rays, const PrimitiveLists& candidates) const {
         if (scene_.any_box_test) {
             rays.compute_inverse_direction();
         }
         Nearest4 nearest;
-        for_each_span(scene_.primitives, rays, [&](const Span4& span, std::int32_t leaf, float) {
+        for_each_span(candidates, rays, [&](const Span4& span, std::int32_t leaf, float) {
             keep_nearest(nearest, span, leaf);
         });
         if (!scene_.csg_objects.empty()) {
@@ -225,9 +228,15 @@ public:
         return finish(rays, nearest);
     }
 
+    Hit4 intersect(RayPacket& rays) const { return intersect(rays, scene_.primitives); }
+
     Color4 trace(RayPacket& rays, int depth, std::uint64_t& ray_count) const {
+        return trace(rays, scene_.primitives, depth, ray_count);
+    }
+
+    Color4 trace(RayPacket& rays, const PrimitiveLists& candidates, int depth, std::uint64_t& ray_count) const {
         ray_count += lane_count(rays.active);
-        Hit4 hit = intersect(rays);
+        Hit4 hit = intersect(rays, candidates);
         Color4 background = broadcast(scene_.background);
         if (none(hit.hit)) {
             return background;
@@ -530,6 +539,79 @@ struct CameraPacket {
     }
 };
 
+// Primary rays of one tile all start at the eye and pass through the tile's rectangle on the image
+// plane: a pyramid. A primitive whose bounding sphere lies wholly outside one of its four side planes
+// cannot be hit by any of them, so the tile's packets test only the rest. This is exact, not an
+// approximation: the planes are moved out by a margin far beyond float rounding (1e-4 of the distance),
+// so no primitive a ray could hit is ever dropped, and the image is the same as without culling.
+// Secondary and shadow rays go everywhere and test every primitive.
+class TileCulling {
+public:
+    TileCulling(const CompiledScene& scene, int width, int height) : scene_(scene), width_(width), height_(height) {}
+
+    // The primitives visible in the pixels [x0, x1) × [y0, y1), written into `visible` (reused
+    // storage: no allocation once it has grown).
+    void select(int x0, int y0, int x1, int y1, PrimitiveLists& visible) const {
+        std::array<Direction, 4> corners = {corner(x0, y0), corner(x1, y0), corner(x1, y1), corner(x0, y1)};
+        std::array<Direction, 4> normals;
+        Direction centre{0, 0, 0};  // inside the pyramid: orients each side plane's normal inward
+        for (const Direction& c : corners) {
+            for (int axis = 0; axis < 3; ++axis) centre[axis] += c[axis];
+        }
+        for (int i = 0; i < 4; ++i) {
+            normals[i] = cross(corners[i], corners[(i + 1) % 4]);
+            double length = std::sqrt(dot(normals[i], normals[i]));
+            double inward = dot(normals[i], centre) < 0 ? -1.0 : 1.0;
+            for (double& c : normals[i]) c *= inward / length;
+        }
+        keep_visible(scene_.primitives.planes, normals, visible.planes);
+        keep_visible(scene_.primitives.spheres, normals, visible.spheres);
+        keep_visible(scene_.primitives.cylinders, normals, visible.cylinders);
+        keep_visible(scene_.primitives.boxes, normals, visible.boxes);
+    }
+
+private:
+    using Direction = std::array<double, 3>;
+
+    static double dot(const Direction& a, const Direction& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+    static Direction cross(const Direction& a, const Direction& b) {
+        return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    }
+
+    // The direction through pixel corner (x, y) of the image plane (pixel edges, not centres).
+    Direction corner(int x, int y) const {
+        double half_height = static_cast<double>(scene_.half_width) * height_ / width_;
+        double u = (2.0 * x / width_ - 1.0) * scene_.half_width;
+        double v = (1.0 - 2.0 * y / height_) * half_height;
+        const Vec3& f = scene_.forward;
+        const Vec3& r = scene_.right;
+        const Vec3& up = scene_.up;
+        return {f.x + u * r.x + v * up.x, f.y + u * r.y + v * up.y, f.z + u * r.z + v * up.z};
+    }
+
+    template <typename Primitive>
+    void keep_visible(const PrimitiveList<Primitive>& all, const std::array<Direction, 4>& normals,
+                      PrimitiveList<Primitive>& visible) const {
+        visible.clear();
+        for (std::size_t i = 0; i < all.items.size(); ++i) {
+            const scene::Vec3& center = all.bound_centers[i];
+            double radius = all.bound_radii[i];
+            Direction offset{center[0] - scene_.eye.x, center[1] - scene_.eye.y, center[2] - scene_.eye.z};
+            double margin = radius + 1e-4 * (std::sqrt(dot(offset, offset)) + radius);
+            bool outside = false;
+            for (const Direction& normal : normals) {
+                outside = outside || dot(normal, offset) < -margin;
+            }
+            if (!outside) {
+                visible.push_back_from(all, i);
+            }
+        }
+    }
+
+    const CompiledScene& scene_;
+    int width_, height_;
+};
+
 }  // namespace
 
 Tracer::Tracer(const scene::Scene& scene) : scene_(std::make_unique<CompiledScene>(compile(scene))) {}
@@ -578,6 +660,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     Tracer tracer(scene);
     PacketTracer packets(tracer.compiled());
     CameraPacket camera(tracer.compiled(), size.width, size.height);
+    TileCulling culling(tracer.compiled(), size.width, size.height);
     Image image(size.width, size.height);
     int tiles_x = (size.width + tile - 1) / tile;
     int tiles_y = (size.height + tile - 1) / tile;
@@ -587,6 +670,8 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
             std::uint64_t tile_rays = 0;
             int x0 = (index % tiles_x) * tile;
             int y0 = (index / tiles_x) * tile;
+            thread_local PrimitiveLists visible;
+            culling.select(x0, y0, std::min(x0 + tile, size.width), std::min(y0 + tile, size.height), visible);
             for (int y = y0; y < std::min(y0 + tile, size.height); y += 2) {
                 for (int x = x0; x < std::min(x0 + tile, size.width); x += 2) {
                     alignas(16) std::int32_t active[4];
@@ -594,7 +679,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
                         active[lane] = x + (lane & 1) < size.width && y + (lane >> 1) < size.height ? -1 : 0;
                     }
                     RayPacket packet = camera.rays(x, y, vbool4{_mm_castsi128_ps(vint4::load(active).m)});
-                    Color4 color = packets.trace(packet, 1, tile_rays);
+                    Color4 color = packets.trace(packet, visible, 1, tile_rays);
                     alignas(16) float r[4], g[4], b[4];
                     color.x.store(r);
                     color.y.store(g);
