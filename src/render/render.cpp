@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -18,50 +17,44 @@ int resolve_thread_count(int requested) {
     return std::max(1u, std::thread::hardware_concurrency());
 }
 
+// The calling thread is one of the workers (one thread fewer to start, which matters for renders of a
+// few milliseconds), and it alone reports progress, between its items.
 std::uint64_t parallel_for(int count, int threads, const std::function<std::uint64_t(int item)>& work,
                            const std::function<void(double fraction_done)>& progress) {
     std::atomic<int> next_item{0};
     std::atomic<int> items_done{0};
     std::atomic<std::uint64_t> total{0};
-    std::mutex mutex;
-    std::condition_variable finished;
-    int workers_running = std::min(resolve_thread_count(threads), std::max(count, 1));
+    std::mutex failure_mutex;
     std::exception_ptr failure;
+    auto last_report = std::chrono::steady_clock::now();
 
-    auto worker = [&] {
+    auto worker = [&](bool reports_progress) {
         try {
             std::uint64_t sum = 0;
             for (int item = next_item++; item < count; item = next_item++) {
                 sum += work(item);
                 ++items_done;
+                if (reports_progress && progress && std::chrono::steady_clock::now() - last_report > std::chrono::milliseconds(100)) {
+                    last_report = std::chrono::steady_clock::now();
+                    progress(static_cast<double>(items_done) / count);
+                }
             }
             total += sum;
         } catch (...) {
-            std::lock_guard lock(mutex);
+            std::lock_guard lock(failure_mutex);
             failure = std::current_exception();
             next_item = count;
         }
-        std::lock_guard lock(mutex);
-        --workers_running;
-        finished.notify_all();
     };
 
-    std::vector<std::jthread> pool;
-    int worker_count = workers_running;
-    for (int i = 0; i < worker_count; ++i) {
-        pool.emplace_back(worker);
-    }
+    int worker_count = std::min(resolve_thread_count(threads), std::max(count, 1));
     {
-        std::unique_lock lock(mutex);
-        while (!finished.wait_for(lock, std::chrono::milliseconds(100), [&] { return workers_running == 0; })) {
-            if (progress) {
-                lock.unlock();
-                progress(static_cast<double>(items_done) / count);
-                lock.lock();
-            }
+        std::vector<std::jthread> helpers;
+        for (int i = 1; i < worker_count; ++i) {
+            helpers.emplace_back(worker, false);
         }
+        worker(true);
     }
-    pool.clear();
     if (failure) {
         std::rethrow_exception(failure);
     }

@@ -12,7 +12,7 @@ struct RenderOptions {
     int width = 0;    // 0: the scene's
     int height = 0;   // 0: the scene's
     int threads = 0;  // 0: all hardware threads
-    // Called on the calling thread, about ten times a second while rendering, with the share done.
+    // Called on the calling thread (itself one of the workers) about ten times a second, with the share done.
     std::function<void(double fraction_done)> progress;
 };
 

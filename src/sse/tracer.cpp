@@ -653,7 +653,10 @@ Ray Tracer::primary_ray(int x, int y, int width, int height) const {
 
 // Tiles of 16 × 16 pixels are handed to worker threads; within a tile, 2 × 2 pixels make a packet
 // (coherent rays: they meet the same primitives). Each lane is computed alone, so the image is
-// bit-identical for any thread count and equals the per-ray API's trace() of each pixel.
+// bit-identical for any thread count and equals the per-ray API's trace() of each pixel. A tile is
+// rendered into a buffer of its own and copied into the image row by row when done: consecutive tiles
+// run on different threads and share cache lines at their borders, which per-pixel writes would pass
+// back and forth between the cores.
 RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     constexpr int tile = 16;
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
@@ -670,26 +673,29 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
             std::uint64_t tile_rays = 0;
             int x0 = (index % tiles_x) * tile;
             int y0 = (index / tiles_x) * tile;
+            int x1 = std::min(x0 + tile, size.width);
+            int y1 = std::min(y0 + tile, size.height);
             thread_local PrimitiveLists visible;
-            culling.select(x0, y0, std::min(x0 + tile, size.width), std::min(y0 + tile, size.height), visible);
-            for (int y = y0; y < std::min(y0 + tile, size.height); y += 2) {
-                for (int x = x0; x < std::min(x0 + tile, size.width); x += 2) {
-                    alignas(16) std::int32_t active[4];
-                    for (int lane = 0; lane < 4; ++lane) {
-                        active[lane] = x + (lane & 1) < size.width && y + (lane >> 1) < size.height ? -1 : 0;
-                    }
-                    RayPacket packet = camera.rays(x, y, vbool4{_mm_castsi128_ps(vint4::load(active).m)});
+            culling.select(x0, y0, x1, y1, visible);
+            Rgb pixels[tile][tile];
+            for (int y = y0; y < y1; y += 2) {
+                for (int x = x0; x < x1; x += 2) {
+                    vbool4 active{_mm_castsi128_ps(_mm_setr_epi32(-1, x + 1 < x1 ? -1 : 0, y + 1 < y1 ? -1 : 0,
+                                                                   x + 1 < x1 && y + 1 < y1 ? -1 : 0))};
+                    RayPacket packet = camera.rays(x, y, active);
                     Color4 color = packets.trace(packet, visible, 1, tile_rays);
                     alignas(16) float r[4], g[4], b[4];
                     color.x.store(r);
                     color.y.store(g);
                     color.z.store(b);
+                    // Buffer rows and columns past the image's edge are written but never copied.
                     for (int lane = 0; lane < 4; ++lane) {
-                        if (active[lane] != 0) {
-                            image.at(x + (lane & 1), y + (lane >> 1)) = {r[lane], g[lane], b[lane]};
-                        }
+                        pixels[y - y0 + (lane >> 1)][x - x0 + (lane & 1)] = {r[lane], g[lane], b[lane]};
                     }
                 }
+            }
+            for (int y = y0; y < y1; ++y) {
+                std::copy(pixels[y - y0], pixels[y - y0] + (x1 - x0), &image.at(x0, y));
             }
             return tile_rays;
         },
