@@ -1,5 +1,6 @@
-// The optimized tracer: single precision, SSE4.1 kernels that test one ray against four primitives at
-// once, the scene compiled into flat per-type arrays. Same per-ray API as the reference tracer.
+// The optimized tracer: single precision, SSE4.1 kernels that test four rays (a packet) against one
+// primitive at once, the scene compiled into flat per-type arrays. Same per-ray API as the reference
+// tracer; a single ray runs as a packet with one active lane, bit-identical to the same ray in render.
 //
 // This header is included by code built without -msse4.1 (CLI, tests, bench), so it exposes no
 // intrinsics: the compiled scene lives behind a pointer, defined in tracer.cpp. Call

@@ -1,7 +1,7 @@
-// The SSE tracer's scalar 3-vector, for its per-ray API and its shading. The hot intersection math does
-// not use it: it runs four primitives at a time in vfloat4 lanes (simd.h). Keeping one 3-vector per
-// __m128 with _mm_dp_ps was the 2009 thesis's design; it wastes a lane and serialises on the
-// horizontal add, so here only the kernels are SIMD, and across primitives.
+// The SSE tracer's scalar 3-vector: its per-ray API, scene compilation and normals. The hot math does
+// not use it: it runs four rays at a time, one per vfloat4 lane (simd.h, tracer.cpp). Keeping one
+// 3-vector per __m128 with _mm_dp_ps was the 2009 thesis's design; it wastes a lane and serialises on
+// the horizontal add.
 #pragma once
 
 #include "scene/scene.h"
