@@ -3,6 +3,7 @@
 // Expectations are worked out by hand from the operands' geometry.
 #include "reference/csg.h"
 #include "reference/tracer.h"
+#include "tests/hit_expectations.h"
 #include "tests/scene_builder.h"
 
 #include <gtest/gtest.h>
@@ -21,44 +22,11 @@ using twinray::reference::Tracer;
 using twinray::scene::CsgOp;
 using V = twinray::reference::Vec3<double>;
 namespace test = twinray::test;
+using twinray::test::Expected;
+using twinray::test::first_hit;
 
-constexpr double tolerance = 1e-12;
+constexpr double tolerance = twinray::test::hit_tolerance;
 
-std::optional<Hit<double>> first_hit(const twinray::scene::Scene& scene, V origin, V direction) {
-    Tracer<double> tracer(scene);
-    return tracer.intersect({origin, normalize(direction)});
-}
-
-struct Expected {
-    double t;
-    V point;
-    V normal;
-    int leaf;
-    bool entering;
-};
-
-void check_hit(const std::optional<Hit<double>>& hit, V direction, const Expected& expected) {
-    ASSERT_TRUE(hit.has_value()) << "expected a hit at t = " << expected.t;
-    EXPECT_NEAR(hit->t, expected.t, tolerance);
-    TWINRAY_EXPECT_VEC_NEAR(hit->point, expected.point, tolerance);
-    TWINRAY_EXPECT_VEC_NEAR(hit->normal, expected.normal, tolerance);
-    EXPECT_LE(dot(hit->normal, normalize(direction)), 0.0) << "the normal must face the ray";
-    EXPECT_EQ(hit->leaf, expected.leaf);
-    EXPECT_EQ(hit->entering, expected.entering);
-}
-
-#define EXPECT_HIT(scene, origin, direction, ...)                                \
-    do {                                                                         \
-        SCOPED_TRACE("ray from " #origin " along " #direction);                  \
-        check_hit(first_hit(scene, origin, direction), direction, __VA_ARGS__); \
-    } while (false)
-
-#define EXPECT_MISS(scene, origin, direction)                                                      \
-    do {                                                                                           \
-        auto miss_ = first_hit(scene, origin, direction);                                          \
-        EXPECT_FALSE(miss_.has_value()) << "ray from " #origin " along " #direction " hit at t = " \
-                                        << miss_->t << ", leaf " << miss_->leaf;                   \
-    } while (false)
 
 twinray::scene::Scene scene_of(twinray::scene::Object object) {
     test::SceneBuilder builder;

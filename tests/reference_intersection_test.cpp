@@ -1,6 +1,7 @@
 // Tracer<double>::intersect against each primitive, with every expectation (t, hit point, normal, leaf,
 // entering) worked out by hand from the primitive's geometry, never by running the tracer's formulas.
 #include "reference/tracer.h"
+#include "tests/hit_expectations.h"
 #include "tests/scene_builder.h"
 
 #include <gtest/gtest.h>
@@ -15,8 +16,10 @@ using twinray::reference::normalize;
 using twinray::reference::Tracer;
 using V = twinray::reference::Vec3<double>;
 namespace test = twinray::test;
+using twinray::test::Expected;
+using twinray::test::first_hit;
 
-constexpr double tolerance = 1e-12;
+constexpr double tolerance = twinray::test::hit_tolerance;
 
 // Every scene starts with a far-away decoy sphere that no ray below comes near, so the primitive under
 // test is leaf 1: a tracer that reports leaf 0 by default, or the wrong leaf, fails.
@@ -26,45 +29,6 @@ twinray::scene::Scene scene_with(twinray::scene::Object object) {
     builder.object(std::move(object));
     return builder.build();
 }
-
-std::optional<Hit<double>> first_hit(const twinray::scene::Scene& scene, V origin, V direction) {
-    Tracer<double> tracer(scene);
-    return tracer.intersect({origin, normalize(direction)});
-}
-
-struct Expected {
-    double t;
-    V point;
-    V normal;
-    int leaf;
-    bool entering;
-};
-
-// Checks the hit of the ray along `direction`, including the invariants every hit has: the normal is
-// of unit length and faces the ray, and the point lies at distance t along the ray.
-void check_hit(const std::optional<Hit<double>>& hit, V direction, const Expected& expected) {
-    ASSERT_TRUE(hit.has_value()) << "expected a hit at t = " << expected.t;
-    EXPECT_NEAR(hit->t, expected.t, tolerance);
-    TWINRAY_EXPECT_VEC_NEAR(hit->point, expected.point, tolerance);
-    TWINRAY_EXPECT_VEC_NEAR(hit->normal, expected.normal, tolerance);
-    EXPECT_NEAR(length(hit->normal), 1.0, tolerance);
-    EXPECT_LE(dot(hit->normal, normalize(direction)), 0.0) << "the normal must face the ray";
-    EXPECT_EQ(hit->leaf, expected.leaf);
-    EXPECT_EQ(hit->entering, expected.entering);
-}
-
-#define EXPECT_HIT(scene, origin, direction, ...)                                \
-    do {                                                                         \
-        SCOPED_TRACE("ray from " #origin " along " #direction);                  \
-        check_hit(first_hit(scene, origin, direction), direction, __VA_ARGS__); \
-    } while (false)
-
-#define EXPECT_MISS(scene, origin, direction)                                                      \
-    do {                                                                                           \
-        auto miss_ = first_hit(scene, origin, direction);                                          \
-        EXPECT_FALSE(miss_.has_value()) << "ray from " #origin " along " #direction " hit at t = " \
-                                        << miss_->t << ", leaf " << miss_->leaf;                   \
-    } while (false)
 
 // ---------------------------------------------------------------------------------------------------
 // Plane: the surface n·p = d, solid on the side n·p < d.
