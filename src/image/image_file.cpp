@@ -1,12 +1,13 @@
 #include "image/image_file.h"
 
+#include "io/atomic_file.h"
+
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
-#include <system_error>
-#include <unistd.h>
 #include <vector>
 
 namespace twinray {
@@ -22,15 +23,6 @@ std::string lowercase_extension(const fs::path& path) {
     return extension;
 }
 
-// Same folder (so rename is atomic), same extension (OpenImageIO picks the format by it), and a name
-// unique to this process.
-fs::path temporary_sibling(const fs::path& path) {
-    fs::path temporary = path;
-    temporary.replace_filename("." + path.stem().string() + ".tmp" + std::to_string(::getpid()) +
-                               path.extension().string());
-    return temporary;
-}
-
 std::vector<unsigned char> to_8bit(const Image& image) {
     std::vector<unsigned char> bytes;
     bytes.reserve(image.pixels().size() * 3);
@@ -42,20 +34,21 @@ std::vector<unsigned char> to_8bit(const Image& image) {
     return bytes;
 }
 
-void write_file(const Image& image, const fs::path& path, bool eight_bit) {
-    auto output = OIIO::ImageOutput::create(path.string());
+// Errors carry OpenImageIO's words only; write_atomically names the target file.
+void write_file(const Image& image, const fs::path& temporary, bool eight_bit) {
+    auto output = OIIO::ImageOutput::create(temporary.string());
     if (!output) {
-        throw ImageFileError("cannot write " + path.string() + ": " + OIIO::geterror());
+        throw std::runtime_error(OIIO::geterror());
     }
     OIIO::ImageSpec spec(image.width(), image.height(), 3, eight_bit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
-    if (!output->open(path.string(), spec)) {
-        throw ImageFileError("cannot write " + path.string() + ": " + output->geterror());
+    if (!output->open(temporary.string(), spec)) {
+        throw std::runtime_error(output->geterror());
     }
     bool written = eight_bit ? output->write_image(OIIO::TypeDesc::UINT8, to_8bit(image).data())
                              : output->write_image(OIIO::TypeDesc::FLOAT, image.pixels().data());
     bool closed = output->close();
     if (!written || !closed) {
-        throw ImageFileError("cannot write " + path.string() + ": " + output->geterror());
+        throw std::runtime_error(output->geterror());
     }
 }
 
@@ -78,17 +71,12 @@ void write_image(const Image& image, const fs::path& path) {
                              path.extension().string() + "\"; allowed: .png (8-bit) or .exr (float)");
     }
     static_assert(sizeof(Rgb) == 3 * sizeof(float), "Rgb must be three packed floats for OpenImageIO");
-    fs::path temporary = temporary_sibling(path);
     try {
-        write_file(image, temporary, lowercase_extension(path) == ".png");
-        fs::rename(temporary, path);
-    } catch (const std::exception& error) {
-        std::error_code ignored;
-        fs::remove(temporary, ignored);
-        if (dynamic_cast<const ImageFileError*>(&error) != nullptr) {
-            throw;
-        }
-        throw ImageFileError("cannot write " + path.string() + ": " + error.what());
+        io::write_atomically(path, [&](const fs::path& temporary) {
+            write_file(image, temporary, lowercase_extension(path) == ".png");
+        });
+    } catch (const io::FileWriteError& error) {
+        throw ImageFileError(error.what());
     }
 }
 

@@ -1,0 +1,25 @@
+// Writing files so that nothing is ever half-written: everything goes to a temporary file in the same
+// folder (so the final rename is atomic), which replaces the target only once complete. A failure or
+// an interruption leaves the old file, if any, untouched.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <stdexcept>
+#include <string_view>
+
+namespace twinray::io {
+
+class FileWriteError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// Calls write(temporary_path), then renames the temporary over `path`. The temporary keeps the
+// target's extension (some writers choose the format by it). On any exception the temporary is
+// removed and the error is rethrown as FileWriteError naming `path`.
+void write_atomically(const std::filesystem::path& path, const std::function<void(const std::filesystem::path&)>& write);
+
+void write_text_atomically(const std::filesystem::path& path, std::string_view text);
+
+}  // namespace twinray::io
