@@ -8,7 +8,8 @@ enum ExitCode : int {
     exit_usage = 1,          // bad command line (unknown option, value out of range, unsupported -o format)
     exit_invalid_scene = 2,  // the scene file is missing, unreadable or breaks the scene contract
     exit_output_error = 3,   // an output file cannot be written
-    exit_internal_error = 4, // a bug: an unexpected exception (please report it)
+    exit_unreadable_image = 4,  // compare/diff: an input image cannot be read, or two images differ in size
+    exit_internal_error = 70,   // a bug: an unexpected exception (please report it)
     exit_cpu_unsupported = 5, // the chosen tracer needs a CPU feature this machine lacks (SSE4.1)
 };
 

@@ -1,0 +1,129 @@
+// libFuzzer target for the scene loader: arbitrary bytes into twinray::scene::parse_scene.
+//
+// What it holds the loader to, beyond what ASan and UBSan catch by themselves (reads out of bounds,
+// use after free, signed overflow, bad float-to-int conversions, stack exhaustion):
+// - the only way to refuse a document is a SceneError: any other exception escapes this function and
+//   libFuzzer reports it as a crash (std::terminate);
+// - a scene that is accepted keeps every promise the tracers rely on (docs/scene-format.md): numbers
+//   finite, indices in range, unit plane normals, positive radii, non-degenerate boxes, bounded
+//   nesting. A broken promise aborts, so libFuzzer saves the input that broke it.
+// Built only with -DTWINRAY_FUZZ=ON (preset `fuzz`, clang); see docs/reliability.md.
+#include "scene/loader.h"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string_view>
+#include <variant>
+
+namespace {
+
+using namespace twinray::scene;
+
+[[noreturn]] void broken_promise(const char* what) {
+    std::fprintf(stderr, "scene_loader_fuzz: accepted scene breaks a promise: %s\n", what);
+    std::abort();
+}
+
+void expect(bool holds, const char* what) {
+    if (!holds) {
+        broken_promise(what);
+    }
+}
+
+bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+bool non_negative(const Vec3& v) { return v[0] >= 0 && v[1] >= 0 && v[2] >= 0; }
+
+// Returns the number of leaves below `object`; checks each leaf's numbering and material.
+int check_object(const Scene& scene, const Object& object, int depth, int& next_leaf) {
+    expect(depth <= 64, "objects nest at most 64 levels");
+    if (const auto* csg = std::get_if<Csg>(&object.shape)) {
+        expect(csg->children.size() >= 2, "a CSG node has at least 2 children");
+        int leaves = 0;
+        for (const Object& child : csg->children) {
+            leaves += check_object(scene, child, depth + 1, next_leaf);
+        }
+        return leaves;
+    }
+    expect(object.leaf == next_leaf, "leaves are numbered in document order");
+    ++next_leaf;
+    expect(object.material >= 0 && static_cast<std::size_t>(object.material) < scene.materials.size(),
+           "a leaf's material index is in range");
+    if (const auto* plane = std::get_if<Plane>(&object.shape)) {
+        expect(finite(plane->normal) && std::isfinite(plane->offset), "plane is finite");
+        double length = std::sqrt(plane->normal[0] * plane->normal[0] + plane->normal[1] * plane->normal[1] +
+                                  plane->normal[2] * plane->normal[2]);
+        expect(std::abs(length - 1.0) < 1e-12, "plane normal has unit length");
+    } else if (const auto* sphere = std::get_if<Sphere>(&object.shape)) {
+        expect(finite(sphere->center) && std::isfinite(sphere->radius) && sphere->radius > 0, "sphere radius > 0");
+    } else if (const auto* cylinder = std::get_if<Cylinder>(&object.shape)) {
+        expect(finite(cylinder->base) && finite(cylinder->cap) && cylinder->base != cylinder->cap,
+               "cylinder base differs from cap");
+        expect(std::isfinite(cylinder->radius) && cylinder->radius > 0, "cylinder radius > 0");
+    } else if (const auto* box = std::get_if<Box>(&object.shape)) {
+        expect(finite(box->min) && finite(box->max), "box is finite");
+        for (int axis = 0; axis < 3; ++axis) {
+            expect(box->min[axis] < box->max[axis], "box min < max on every axis");
+        }
+    }
+    return 1;
+}
+
+void check_accepted(const Scene& scene) {
+    expect(scene.width >= 1 && scene.width <= max_image_side, "image width in range");
+    expect(scene.height >= 1 && scene.height <= max_image_side, "image height in range");
+    expect(scene.max_depth >= 1 && scene.max_depth <= max_trace_depth, "max_depth in range");
+    const Camera& camera = scene.camera;
+    expect(finite(camera.eye) && finite(camera.look_at) && finite(camera.up), "camera is finite");
+    expect(camera.eye != camera.look_at, "camera eye differs from look_at");
+    expect(camera.fov_deg > 0 && camera.fov_deg < 180, "0 < fov_deg < 180");
+    expect(finite(scene.background) && non_negative(scene.background), "background is a colour");
+    expect(finite(scene.ambient_light) && non_negative(scene.ambient_light), "ambient_light is a colour");
+    expect(!scene.materials.empty() && scene.materials.size() == scene.material_names.size(),
+           "one name per material, the default first");
+    for (const Material& m : scene.materials) {
+        expect(finite(m.color) && non_negative(m.color), "material colour is a colour");
+        for (double coefficient : {m.ambient, m.diffuse, m.phong, m.reflection, m.transmission}) {
+            expect(std::isfinite(coefficient) && coefficient >= 0, "material coefficients are >= 0");
+        }
+        expect(std::isfinite(m.phong_size) && m.phong_size > 0, "phong_size > 0");
+        expect(std::isfinite(m.ior) && m.ior > 0, "ior > 0");
+    }
+    for (const Light& light : scene.lights) {
+        expect(finite(light.position) && finite(light.color) && non_negative(light.color), "light is finite");
+    }
+    int next_leaf = 0;
+    for (const Object& object : scene.objects) {
+        int leaves = check_object(scene, object, 1, next_leaf);
+        if (std::holds_alternative<Csg>(object.shape)) {
+            expect(leaves <= max_csg_leaves, "a top-level CSG object holds at most 64 primitives");
+        }
+    }
+    expect(static_cast<std::size_t>(next_leaf) == scene.leaf_paths.size(), "one path per leaf");
+    expect(scene.leaf_paths.size() == scene.leaf_materials.size(), "one material per leaf");
+    for (int material : scene.leaf_materials) {
+        expect(material >= 0 && static_cast<std::size_t>(material) < scene.materials.size(),
+               "leaf_materials index in range");
+    }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    std::string_view text(reinterpret_cast<const char*>(data), size);
+    try {
+        check_accepted(parse_scene(text, "<fuzz>"));
+    } catch (const SceneError& refusal) {
+        // A refusal must say where and what: an empty problem would leave the user guessing.
+        expect(!refusal.problem().empty(), "a refusal says what is wrong");
+    }
+    return 0;
+}
+
+// Where a second target would plug in (issue 8 asks for one on `twinray compare`'s image loading,
+// being written now): a file tests/fuzz/image_loader_fuzz.cpp whose LLVMFuzzerTestOneInput writes the
+// bytes to a temporary .png/.exr and calls the compare library's image reader, expecting only its
+// documented error type; registered in tests/fuzz/CMakeLists.txt with twinray_fuzz_target() next to
+// this one, seeded from tests/data/ images.
