@@ -98,6 +98,67 @@ std::optional<Vec3<T>> refract(Vec3<T> d, Vec3<T> n, T eta) {
     return normalize(eta * d + (eta * cos_incident - cos_transmitted) * n);
 }
 
+// Recording the ray tree (twinray probe). Each helper does nothing without a tree, so tracing without
+// one costs a null test per call.
+template <typename T>
+Vec3d to_vec3d(Vec3<T> v) {
+    return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
+}
+
+template <typename T>
+int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const Ray<T>& ray, const std::optional<Hit<T>>& hit) {
+    if (tree == nullptr) {
+        return -1;
+    }
+    int index = tree->add(kind, depth, parent, to_vec3d(ray.origin), to_vec3d(ray.direction));
+    RayNode& node = tree->nodes[static_cast<std::size_t>(index)];
+    if (hit) {
+        node.hit = true;
+        node.leaf = hit->leaf;
+        node.t = static_cast<double>(hit->t);
+        node.point = to_vec3d(hit->point);
+        node.normal = to_vec3d(hit->normal);
+        node.entering = hit->entering;
+    }
+    return index;
+}
+
+// A light the surface faces away from (N·L ≤ 0): no shadow ray.
+template <typename T>
+void record_light(RayTree* tree, int node, T lambert) {
+    if (tree != nullptr) {
+        tree->nodes[static_cast<std::size_t>(node)].lights.push_back({static_cast<double>(lambert), true, 0, {}, {}});
+    }
+}
+
+template <typename T>
+void record_light(RayTree* tree, int node, T lambert, Vec3<T> shadow_origin, Vec3<T> light_position, T transmittance) {
+    if (tree != nullptr) {
+        tree->nodes[static_cast<std::size_t>(node)].lights.push_back(
+            {static_cast<double>(lambert), false, static_cast<double>(transmittance), to_vec3d(shadow_origin),
+             to_vec3d(normalize(light_position - shadow_origin))});
+    }
+}
+
+template <typename T>
+void record_local_color(RayTree* tree, int node, Color<T> color) {
+    if (tree != nullptr) {
+        tree->nodes[static_cast<std::size_t>(node)].local = to_vec3d(color);
+    }
+}
+
+// On a miss the background is both the local and the total colour.
+template <typename T>
+void record_total_color(RayTree* tree, int node, Color<T> color) {
+    if (tree != nullptr) {
+        RayNode& n = tree->nodes[static_cast<std::size_t>(node)];
+        n.total = to_vec3d(color);
+        if (!n.hit) {
+            n.local = n.total;
+        }
+    }
+}
+
 }  // namespace
 
 template <typename T>
@@ -175,21 +236,31 @@ Vec3<T> Tracer<T>::spawn_origin(const Hit<T>& hit, Vec3<T> direction) {
 }
 
 template <typename T>
-Color<T> Tracer<T>::trace(const Ray<T>& ray, int depth, std::uint64_t* rays) const {
+Color<T> Tracer<T>::trace(const Ray<T>& ray, int depth, std::uint64_t* rays, RayTree* tree) const {
     std::uint64_t count = 0;
-    ++count;
-    std::optional<Hit<T>> hit = intersect(ray);
-    Color<T> color = hit ? shade(ray, *hit, depth, count) : background_;
+    Color<T> color = trace_ray(ray, depth, count, tree, RayKind::primary, -1);
     if (rays != nullptr) {
         *rays += count;
     }
     return color;
 }
 
+template <typename T>
+Color<T> Tracer<T>::trace_ray(const Ray<T>& ray, int depth, std::uint64_t& rays, RayTree* tree, RayKind kind,
+                              int parent) const {
+    ++rays;
+    std::optional<Hit<T>> hit = intersect(ray);
+    int node = record_ray(tree, kind, depth, parent, ray, hit);
+    Color<T> color = hit ? shade(ray, *hit, depth, rays, tree, node) : background_;
+    record_total_color(tree, node, color);
+    return color;
+}
+
 // I = ambient·C·ambient_light + Σ_lights shadow·(diffuse·C·Lc·(N·L) + phong·Lc·max(0, R·L)^phong_size)
 //   + reflection·I(reflected) + transmission·I(refracted)          (SCENES.md, "Shading")
 template <typename T>
-Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays) const {
+Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays, RayTree* tree,
+                          int node) const {
     const MaterialT<T>& m = material_of(hit.leaf);
     Color<T> color = m.ambient * (m.color * ambient_light_);
     Vec3<T> mirror = reflect(ray.direction, hit.normal);
@@ -197,10 +268,13 @@ Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::
         Vec3<T> to_light = normalize(light.position - hit.point);
         T lambert = dot(hit.normal, to_light);
         if (!(lambert > T(0))) {
+            record_light(tree, node, lambert);
             continue;
         }
         ++rays;
-        T shadow = shadow_transmittance(spawn_origin(hit, to_light), light.position);
+        Vec3<T> shadow_origin = spawn_origin(hit, to_light);
+        T shadow = shadow_transmittance(shadow_origin, light.position);
+        record_light(tree, node, lambert, shadow_origin, light.position, shadow);
         if (shadow == T(0)) {
             continue;
         }
@@ -208,6 +282,7 @@ Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::
         T highlight = m.phong > T(0) ? m.phong * std::pow(std::fmax(T(0), dot(mirror, to_light)), m.phong_size) : T(0);
         color += shadow * (diffuse + highlight * light.color);
     }
+    record_local_color(tree, node, color);
     if (depth >= max_depth_) {
         return color;
     }
@@ -216,14 +291,14 @@ Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::
         T eta = hit.entering ? T(1) / m.ior : m.ior;
         if (std::optional<Vec3<T>> refracted = refract(ray.direction, hit.normal, eta)) {
             Ray<T> next{spawn_origin(hit, *refracted), *refracted};
-            color += m.transmission * trace(next, depth + 1, &rays);
+            color += m.transmission * trace_ray(next, depth + 1, rays, tree, RayKind::refracted, node);
         } else {
             reflection += m.transmission;  // total internal reflection
         }
     }
     if (reflection > T(0)) {
         Ray<T> next{spawn_origin(hit, mirror), mirror};
-        color += reflection * trace(next, depth + 1, &rays);
+        color += reflection * trace_ray(next, depth + 1, rays, tree, RayKind::reflected, node);
     }
     return color;
 }
@@ -251,7 +326,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
             }
             return row_rays;
         },
-        options.progress);
+        options.progress, options.cancel);
     return {std::move(image), rays};
 }
 

@@ -8,6 +8,7 @@
 #include "reference/plane.h"
 #include "reference/ray.h"
 #include "reference/sphere.h"
+#include "render/ray_tree.h"
 #include "render/render.h"
 #include "scene/scene.h"
 
@@ -58,8 +59,10 @@ public:
     std::optional<Hit<T>> intersect(const Ray<T>& ray) const;
 
     // The colour the ray sees; `depth` is 1 for primary rays. `rays`, if given, is incremented for
-    // every ray this traces (this one, shadow rays and secondary rays).
-    Color<T> trace(const Ray<T>& ray, int depth, std::uint64_t* rays = nullptr) const;
+    // every ray this traces (this one, shadow rays and secondary rays). `tree`, if given, receives every
+    // ray traced, what it hit, each light's visibility and its colours (twinray probe); the colour is
+    // the same with or without it.
+    Color<T> trace(const Ray<T>& ray, int depth, std::uint64_t* rays = nullptr, RayTree* tree = nullptr) const;
 
     // The ray through the centre of pixel (x, y) of a width × height image, (0, 0) top-left.
     Ray<T> primary_ray(int x, int y, int width, int height) const;
@@ -74,7 +77,10 @@ public:
     const MaterialT<T>& material_of(int leaf) const { return materials_[leaf_materials_[leaf]]; }
 
 private:
-    Color<T> shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays) const;
+    // trace() of one ray of the tree, recorded (if `tree`) as a `kind` child of node `parent`.
+    Color<T> trace_ray(const Ray<T>& ray, int depth, std::uint64_t& rays, RayTree* tree, RayKind kind, int parent) const;
+    // `node`: this hit's ray in `tree`, if recording.
+    Color<T> shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays, RayTree* tree, int node) const;
 
     CameraT<T> camera_;
     Color<T> background_, ambient_light_;

@@ -4,6 +4,8 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <sys/wait.h>
 
@@ -147,6 +149,67 @@ TEST_F(CliTest, ReplacingAnExistingImageLeavesNoTemporaryFileBehind) {
         ++files;
     }
     EXPECT_EQ(files, 1u);
+}
+
+TEST_F(CliTest, CompareOfAnImageWithItselfPassesWithZeroError) {
+    ASSERT_EQ(run_twinray("render " + scene("csg.json") + " --width 64 -o " + output("a.png")).exit_status, 0);
+    CommandResult result = run_twinray("compare " + output("a.png") + " " + output("a.png"));
+    EXPECT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_NE(result.output.find("Max error  = 0 "), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("PASS"), std::string::npos) << result.output;
+}
+
+TEST_F(CliTest, CompareExitsTwoOnFailOneOnWarnAndWritesTheErrorMap) {
+    // Two different scenes of the same aspect ratio: same size, different pixels.
+    ASSERT_EQ(run_twinray("render " + scene("spheres.json") + " --width 64 -o " + output("ref.png")).exit_status, 0);
+    ASSERT_EQ(run_twinray("render " + scene("planes.json") + " --width 64 -o " + output("other.png")).exit_status, 0);
+    CommandResult fail = run_twinray("compare " + output("ref.png") + " " + output("other.png") + " --map " + output("map.png"));
+    EXPECT_EQ(fail.exit_status, 2) << fail.output;
+    EXPECT_TRUE(fs::exists(output("map.png")));
+    CommandResult warn = run_twinray("compare " + output("ref.png") + " " + output("other.png") +
+                                     " --failpercent 100 --warn 0.004 --warnpercent 0");
+    EXPECT_EQ(warn.exit_status, 1) << warn.output;
+    EXPECT_NE(warn.output.find("WARN"), std::string::npos) << warn.output;
+}
+
+TEST_F(CliTest, CompareRefusesMismatchedSizesAndUnreadableFilesWithStatusFour) {
+    ASSERT_EQ(run_twinray("render " + scene("csg.json") + " --width 64 -o " + output("small.png")).exit_status, 0);
+    ASSERT_EQ(run_twinray("render " + scene("csg.json") + " --width 65 -o " + output("large.png")).exit_status, 0);
+    CommandResult sizes = run_twinray("compare " + output("small.png") + " " + output("large.png"));
+    EXPECT_EQ(sizes.exit_status, 4) << sizes.output;
+    EXPECT_NE(sizes.output.find("differ in size"), std::string::npos) << sizes.output;
+    CommandResult missing = run_twinray("compare " + output("small.png") + " " + output("nothing.png"));
+    EXPECT_EQ(missing.exit_status, 4) << missing.output;
+    EXPECT_NE(missing.output.find("nothing.png"), std::string::npos) << missing.output;
+}
+
+TEST_F(CliTest, DiffWritesPerSceneImagesAndAReportWithProbeCommands) {
+    CommandResult result = run_twinray("diff " + scene("csg.json") + " " + scene("spheres.json") + " --width 80 -o " + output("report"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    for (const char* name : {"csg", "spheres"}) {
+        for (const char* image : {"reference.png", "sse.png", "error.png", "mask.png"}) {
+            EXPECT_TRUE(fs::exists(folder_ / "report" / name / image)) << name << "/" << image;
+        }
+        EXPECT_NE(result.output.find(name), std::string::npos) << "one summary line per scene:\n" << result.output;
+    }
+    std::ifstream page(folder_ / "report" / "index.html");
+    std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+    EXPECT_NE(html.find("csg/error.png"), std::string::npos);
+    EXPECT_NE(html.find("twinray probe " + scene("csg.json") + " --pixel "), std::string::npos);
+    EXPECT_EQ(html.find("http"), std::string::npos) << "the page must work from disk, with no network";
+    EXPECT_NE(result.output.find("index.html"), std::string::npos) << result.output;
+}
+
+TEST_F(CliTest, GoldenUpdatesOnlyOnPurposeAndReportsWhatChanged) {
+    CommandResult refused = run_twinray("golden " + scene("spheres.json") + " --golden-folder " + folder_.string());
+    EXPECT_EQ(refused.exit_status, 1) << refused.output;
+    EXPECT_TRUE(fs::is_empty(folder_));
+    CommandResult first = run_twinray("golden --update " + scene("spheres.json") + " --golden-folder " + folder_.string());
+    ASSERT_EQ(first.exit_status, 0) << first.output;
+    EXPECT_NE(first.output.find("new"), std::string::npos) << first.output;
+    CommandResult again = run_twinray("golden --update " + scene("spheres.json") + " --golden-folder " + folder_.string());
+    EXPECT_NE(again.output.find("unchanged"), std::string::npos) << again.output;
+    EXPECT_TRUE(fs::exists(folder_ / "spheres.png"));
 }
 
 }  // namespace

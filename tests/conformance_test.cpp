@@ -1,6 +1,8 @@
 // The SSE tracer held against the reference<double> on every scene in scenes/: per primary ray (same
 // object; t, point and normal within a bound derived from float epsilon and the scene's scale) and per
 // image (max absolute error, share of pixels over 1/255). Measured maxima are printed on every run.
+#include "compare/image_compare.h"
+#include "compare/tolerances.h"
 #include "image/image.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
@@ -38,12 +40,7 @@ constexpr double normal_bound_radians = 1e-3;
 // see a different primitive, a hit where it misses (or the reverse), or a normal turned by more than
 // the normal bound: there a change of float rounding legitimately changes the answer.
 constexpr double band_pixels = 1e-3;
-// Images, compared as stored (clamped to [0, 1]): at most 0.1% of pixels may differ by more than one
-// 8-bit level (measured at most 0.02% on our scenes), and no pixel by more than 0.5. A single pixel
-// can legitimately differ by a lot: a secondary ray that grazes a silhouette may see another object in
-// float than in double, and no band on primary rays can exclude that.
-constexpr double max_share_over_one_level = 0.001;
-constexpr double max_pixel_error = 0.5;
+
 
 std::vector<fs::path> scene_files() {
     std::vector<fs::path> files;
@@ -189,30 +186,23 @@ TEST_P(Conformance, EveryPrimaryRayHitsTheSameObjectWithinTheFloatBound) {
     EXPECT_LE(max_normal_error, normal_bound_radians);
 }
 
+// Thresholds per scene from tests/tolerances.json (the same numbers twinray diff judges by).
 TEST_P(Conformance, RenderedImageAgreesWithTheReference) {
     twinray::RenderOptions options;
-    twinray::Image expected = twinray::reference::render<double>(scene_, options).image;
-    twinray::Image actual = twinray::sse::render(scene_, options).image;
-    ASSERT_EQ(actual.width(), expected.width());
-    ASSERT_EQ(actual.height(), expected.height());
-    double max_error = 0;
-    long over_one_level = 0;
-    for (std::size_t i = 0; i < expected.pixels().size(); ++i) {
-        const twinray::Rgb& a = actual.pixels()[i];
-        const twinray::Rgb& e = expected.pixels()[i];
-        // Compared as stored in an image: clamped to [0, 1].
-        auto clamp = [](float v) { return std::clamp(static_cast<double>(v), 0.0, 1.0); };
-        double error = std::max({std::fabs(clamp(a.r) - clamp(e.r)), std::fabs(clamp(a.g) - clamp(e.g)), std::fabs(clamp(a.b) - clamp(e.b))});
-        max_error = std::max(max_error, error);
-        over_one_level += error > 1.0 / 255.0;
-    }
-    double share = static_cast<double>(over_one_level) / static_cast<double>(expected.pixels().size());
-    std::printf("[ measured ] %s image: max abs error %.4f, %ld pixels (%.4f%%) over 1/255\n", GetParam().stem().c_str(),
-                max_error, over_one_level, 100 * share);
-    RecordProperty("max_error", std::to_string(max_error));
-    RecordProperty("share_over_one_level", std::to_string(share));
-    EXPECT_LE(share, max_share_over_one_level);
-    EXPECT_LE(max_error, max_pixel_error);
+    twinray::Image expected = twinray::compare::clamped(twinray::reference::render<double>(scene_, options).image);
+    twinray::Image actual = twinray::compare::clamped(twinray::sse::render(scene_, options).image);
+    const std::string name = GetParam().stem().string();
+    auto manifest = twinray::compare::ToleranceManifest::load(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "tolerances.json");
+    twinray::compare::Thresholds thresholds = manifest.for_scene(name).sse;
+    twinray::compare::Metrics metrics = twinray::compare::measure(expected, actual, thresholds);
+    double share = static_cast<double>(metrics.fail_pixels) / static_cast<double>(metrics.pixel_count);
+    std::printf("[ measured ] %s image: max abs error %.4f at %d,%d, %ld pixels (%.4f%%) over %.4g; allowed %.4g%%, max %.4g\n",
+                name.c_str(), metrics.max_error, metrics.max_x, metrics.max_y, metrics.fail_pixels, 100 * share, thresholds.fail,
+                thresholds.fail_percent, thresholds.hard_fail);
+    RecordProperty("max_error", std::to_string(metrics.max_error));
+    RecordProperty("share_over_fail", std::to_string(share));
+    EXPECT_LE(100 * share, thresholds.fail_percent) << "see twinray diff " << GetParam().string() << " -o DIR";
+    EXPECT_LE(metrics.max_error, thresholds.hard_fail) << "see twinray diff " << GetParam().string() << " -o DIR";
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Conformance, ::testing::ValuesIn(scene_files()),

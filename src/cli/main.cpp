@@ -3,6 +3,9 @@
 #include "cli/compare_command.h"
 #include "cli/diff_command.h"
 #include "cli/exit_codes.h"
+#include "cli/golden_command.h"
+#include "cli/pov_command.h"
+#include "cli/probe_command.h"
 #include "cli/render_command.h"
 
 #include <CLI/CLI.hpp>
@@ -21,8 +24,11 @@ int main(int argc, char** argv) {
     std::function<int()> run;
     add_render_command(app, run);
     add_bench_command(app, run);
+    add_pov_command(app, run);
     add_compare_command(app, run);
     add_diff_command(app, run);
+    add_golden_command(app, run);
+    add_probe_command(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -5,11 +5,16 @@
 #include "image/image_file.h"
 #include "scene/loader.h"
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <unistd.h>
 
@@ -17,6 +22,42 @@ namespace twinray::cli {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The largest image render accepts, refused before anything is allocated: 8192 x 8192 pixels, whose
+// float RGB buffer alone is 768 MiB (the 8-bit copy for a PNG adds 192 MiB). Each side may be up to
+// 16384 (the scene format's limit), but 16384 x 16384 would need 3 GiB for the buffer.
+constexpr std::int64_t max_image_pixels = std::int64_t{8192} * 8192;
+
+// Set by SIGINT (Ctrl-C); the render loop reads it between items (RenderOptions::cancel). A lock-free
+// atomic is safe to store to from a signal handler.
+std::atomic<bool> interrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+void on_interrupt(int) { interrupted.store(true, std::memory_order_relaxed); }
+
+// Catches SIGINT for as long as it lives, then restores what was there before. It lives for the whole
+// render command, writing included: a Ctrl-C that arrives once the image is being written lets the
+// write finish (a second or so) rather than leave a half-written temporary file beside the target.
+class InterruptCatcher {
+public:
+    InterruptCatcher() {
+        struct sigaction action {};
+        action.sa_handler = on_interrupt;
+        sigemptyset(&action.sa_mask);
+        installed_ = ::sigaction(SIGINT, &action, &previous_) == 0;
+    }
+    ~InterruptCatcher() {
+        if (installed_) {
+            ::sigaction(SIGINT, &previous_, nullptr);
+        }
+    }
+    InterruptCatcher(const InterruptCatcher&) = delete;
+    InterruptCatcher& operator=(const InterruptCatcher&) = delete;
+
+private:
+    struct sigaction previous_ {};
+    bool installed_ = false;
+};
 
 struct RenderArguments {
     std::string scene_path;
@@ -56,6 +97,7 @@ std::function<void(double)> terminal_progress(std::chrono::steady_clock::time_po
 }
 
 int run_render(const RenderArguments& arguments) {
+    InterruptCatcher catch_ctrl_c;
     fs::path output = arguments.output_path.empty() ? fs::path(fs::path(arguments.scene_path).stem().string() + ".png")
                                                     : fs::path(arguments.output_path);
     if (std::string problem = output_problem(output); !problem.empty()) {
@@ -73,17 +115,46 @@ int run_render(const RenderArguments& arguments) {
         std::cerr << "twinray render: invalid scene: " << error.what() << "\n";
         return exit_invalid_scene;
     }
+    scene::ImageSize size{};
+    try {
+        size = scene::resolve_image_size(scene, arguments.width, arguments.height);
+    } catch (const std::invalid_argument& error) {
+        std::cerr << "twinray render: " << error.what() << "\n";
+        return exit_usage;
+    }
+    if (std::int64_t pixels = std::int64_t{size.width} * size.height; pixels > max_image_pixels) {
+        std::cerr << "twinray render: " << size.width << " x " << size.height << " is " << pixels
+                  << " pixels, more than the limit of " << max_image_pixels
+                  << " (8192 x 8192, 768 MiB of float pixels); ask for a smaller --width or --height\n";
+        return exit_usage;
+    }
     RenderOptions options;
     options.width = arguments.width;
     options.height = arguments.height;
     options.threads = resolve_thread_count(arguments.threads);
+    options.cancel = &interrupted;
     auto start = std::chrono::steady_clock::now();
     options.progress = terminal_progress(start);
-    RenderResult result = render_with(arguments.tracer, scene, options);
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (options.progress) {
-        std::fprintf(stderr, "\r              \r");
+    auto clear_progress = [&] {
+        if (options.progress) {
+            std::fprintf(stderr, "\r              \r");
+        }
+    };
+    std::optional<RenderResult> rendered;
+    try {
+        rendered.emplace(render_with(arguments.tracer, scene, options));
+        // A Ctrl-C after the last item but before the write still means "stop": nothing is written.
+        if (interrupted.load(std::memory_order_relaxed)) {
+            throw RenderCancelled();
+        }
+    } catch (const RenderCancelled&) {
+        clear_progress();
+        std::cerr << "twinray render: interrupted; " << output.string() << " was not written\n";
+        return exit_interrupted;
     }
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    clear_progress();
+    const RenderResult& result = *rendered;
     try {
         write_image(result.image, output);
     } catch (const ImageFileError& error) {

@@ -1,5 +1,7 @@
 #include "compare/image_compare.h"
 
+#include "image/image_file.h"
+
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
@@ -155,6 +157,18 @@ Image clamped(const Image& image) {
         for (int x = 0; x < image.width(); ++x) {
             const Rgb& p = image.at(x, y);
             out.at(x, y) = {clamp(p.r), clamp(p.g), clamp(p.b)};
+        }
+    }
+    return out;
+}
+
+Image quantized_8bit(const Image& image) {
+    Image out(image.width(), image.height());
+    auto level = [](float v) { return static_cast<float>(quantize_8bit(v)) / 255.0f; };
+    for (int y = 0; y < image.height(); ++y) {
+        for (int x = 0; x < image.width(); ++x) {
+            const Rgb& p = image.at(x, y);
+            out.at(x, y) = {level(p.r), level(p.g), level(p.b)};
         }
     }
     return out;

@@ -63,8 +63,10 @@ Image heat_map_legend(int width, int height);
 // White where a pixel fails (any channel differs by more than `fail`), the reference dimmed elsewhere.
 Image fail_mask(const Image& reference, const Image& other, double fail);
 
-// Each component clamped to [0, 1]: an image as a PNG would store it.
+// Each component clamped to [0, 1] (as any stored image), and as an 8-bit PNG stores it:
+// round(255·clamp(v)) / 255.
 Image clamped(const Image& image);
+Image quantized_8bit(const Image& image);
 
 // Any format OpenImageIO reads, as float RGB (grey is expanded, alpha dropped).
 Image read_image(const std::filesystem::path& path);

@@ -2,10 +2,15 @@
 
 #include "io/atomic_file.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -34,11 +39,26 @@ std::vector<unsigned char> to_8bit(const Image& image) {
     return bytes;
 }
 
+struct CloseFile {
+    void operator()(std::FILE* stream) const { std::fclose(stream); }
+};
+
 // Errors carry OpenImageIO's words only; write_atomically names the target file.
+// OpenImageIO 2.4's PNG writer does not check its writes: on a full disk it reports success and leaves
+// a truncated file, which the rename would then put in place of the old image (tests/failure_test.cpp).
+// So OpenImageIO writes through a stream of ours, whose error flag and final flush and close we check.
 void write_file(const Image& image, const fs::path& temporary, bool eight_bit) {
     auto output = OIIO::ImageOutput::create(temporary.string());
     if (!output) {
         throw std::runtime_error(OIIO::geterror());
+    }
+    std::unique_ptr<std::FILE, CloseFile> stream(std::fopen(temporary.c_str(), "wb"));
+    if (!stream) {
+        throw std::runtime_error(std::strerror(errno));
+    }
+    OIIO::Filesystem::IOFile proxy(stream.get(), OIIO::Filesystem::IOProxy::Write);
+    if (!output->set_ioproxy(&proxy)) {
+        throw std::runtime_error(std::string("OpenImageIO cannot write ") + output->format_name() + " to a stream");
     }
     OIIO::ImageSpec spec(image.width(), image.height(), 3, eight_bit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
     if (!output->open(temporary.string(), spec)) {
@@ -49,6 +69,15 @@ void write_file(const Image& image, const fs::path& temporary, bool eight_bit) {
     bool closed = output->close();
     if (!written || !closed) {
         throw std::runtime_error(output->geterror());
+    }
+    bool stream_failed = std::ferror(stream.get()) != 0 || std::fflush(stream.get()) != 0;
+    int stream_errno = errno;
+    if (std::fclose(stream.release()) != 0 && !stream_failed) {
+        stream_failed = true;
+        stream_errno = errno;
+    }
+    if (stream_failed) {
+        throw std::runtime_error(std::string("write failed: ") + std::strerror(stream_errno));
     }
 }
 

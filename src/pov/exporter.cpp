@@ -1,17 +1,17 @@
 #include "pov/exporter.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <variant>
+#include <vector>
 
 namespace twinray::pov {
 namespace {
 
 using scene::Vec3;
-
-enum class Pass { shaded, object_ids };
 
 // 17 significant digits: every double reads back as itself. Zero is printed without its sign.
 std::string number(double value) {
@@ -40,14 +40,88 @@ const char* csg_keyword(scene::CsgOp op) {
     throw std::logic_error("unknown CSG operation");
 }
 
+// How one of our materials is written for POV-Ray (docs/povray.md, "Materials").
+//
+// POV-Ray's transparent surface (pigment transmit f, finish `refraction` k, which POV-Ray 3.7 still
+// reads though it calls it obsolete) shows
+//     (1 − f)·(ambient and diffuse terms) + phong + reflection·I(reflected) + k·f·I(refracted),
+// but on total internal reflection k·I(internally reflected) and no `reflection` term; a shadow ray
+// crossing it keeps f of the light. Ours shows ambient + diffuse + phong + r·I(reflected) + t·I(refracted),
+// on total internal reflection (r + t)·I(reflected), and a shadow ray keeps t. So k = r + t and
+// f = t/(r + t) give our refraction and total internal reflection, ambient and diffuse divided by
+// (1 − f) give our own terms, and when f ≠ t a second, invisible copy of the object with transmit t
+// casts the shadows (see Writer::top_level).
+struct PovMaterial {
+    double transmit = 0;
+    double refraction = 1;  // k
+    double own_scale = 1;   // on ambient and diffuse
+    std::string residual;   // what POV-Ray cannot express, if anything
+};
+
+PovMaterial map_material(const scene::Material& m) {
+    const double t = m.transmission;
+    const double r = m.reflection;
+    PovMaterial p;
+    if (t == 0) {
+        return p;
+    }
+    bool has_own_terms = m.ambient != 0 || m.diffuse != 0;
+    if (r > 0 || t >= 1 || !has_own_terms) {
+        p.refraction = r + t;
+        p.transmit = t / p.refraction;
+    } else {
+        // k = t would need f = 1, which hides the surface's own ambient and diffuse entirely; keeping
+        // them costs the weight of internally reflected rays instead (1 where ours is t).
+        p.transmit = t;
+        p.residual = "reflection 0 with 0 < transmission < 1: POV-Ray weighs total internal reflection by 1, ours by transmission";
+    }
+    if (p.transmit < 1) {
+        p.own_scale = 1 / (1 - p.transmit);
+    } else {
+        p.own_scale = 0;
+        if (has_own_terms) {
+            p.residual = "transmission >= 1 with reflection 0: POV-Ray cannot show this surface's ambient and diffuse terms";
+        }
+    }
+    return p;
+}
+
+enum class Pass {
+    shaded,          // what the camera, reflected and refracted rays see
+    shadow_caster,   // an invisible copy that casts the shadows, when the shaded copy's transmit is not ours
+    object_ids,      // every primitive flat-coloured by its id
+};
+
+// How one top-level object's primitives share POV-Ray's `interior`.
+//
+// POV-Ray tells entering from leaving, and so the ratio of indices, by the identity of the interior
+// a ray meets: leaving through a surface with another interior than the one it entered counts as
+// entering a second solid. Ours decides by the composite solid and takes the ior of the surface hit.
+// So when the transparent primitives of a top-level object agree on ior and k, one interior is set on
+// the object and every primitive inherits it (opaque ones never refract). POV-Ray copies each
+// primitive's finish `refraction` into the interior it holds (1 when not given), so then every
+// primitive of the object, opaque or not, carries the same k. When they disagree each transparent
+// primitive keeps its own interior: a residual difference.
+struct InteriorPlan {
+    bool transparent = false;  // some primitive has transmission > 0
+    bool shared = false;       // one interior for the whole object
+    double ior = 1;
+    double refraction = 1;
+    bool needs_shadow_caster = false;
+};
+
 class Writer {
 public:
-    Writer(const scene::Scene& scene, Pass pass) : scene_(scene), pass_(pass) {}
+    Writer(const scene::Scene& scene, bool object_ids) : scene_(scene), object_ids_(object_ids) {
+        for (const scene::Material& material : scene.materials) {
+            materials_.push_back(map_material(material));
+        }
+    }
 
     std::string write(int width, int height) {
         header(width, height);
         for (const scene::Object& object : scene_.objects) {
-            this->object(object, 0);
+            top_level(object);
         }
         return text_;
     }
@@ -61,23 +135,31 @@ private:
 
     void header(int width, int height) {
         const scene::Camera& camera = scene_.camera;
-        bool shaded = pass_ == Pass::shaded;
-        line(0, shaded ? "// twinray scene exported for POV-Ray 3.7 (docs/povray.md)."
-                       : "// twinray object-id pass for POV-Ray 3.7: each primitive flat-coloured by its id (docs/povray.md).");
+        line(0, object_ids_ ? "// twinray object-id pass for POV-Ray 3.7: each primitive flat-coloured by its id (docs/povray.md)."
+                            : "// twinray scene exported for POV-Ray 3.7 (docs/povray.md).");
         line(0, "// Render: povray +I<this file> +O<out>.png +W" + std::to_string(width) + " +H" + std::to_string(height) +
                     " -D -A +FN8 File_Gamma=1.0");
         line(0, "// Right-handed world with y up converted to POV-Ray's left-handed one by negating every z.");
+        std::vector<bool> used(materials_.size(), false);
+        for (const scene::Object& object : scene_.objects) {
+            for_each_leaf(object, [&](const scene::Object& leaf) { used.at(static_cast<std::size_t>(leaf.material)) = true; });
+        }
+        for (std::size_t i = 0; i < materials_.size() && !object_ids_; ++i) {
+            if (used[i] && !materials_[i].residual.empty()) {
+                line(0, "// Not exact: material " + scene_.material_names[i] + ": " + materials_[i].residual + ".");
+            }
+        }
         line(0, "#version 3.7;");
         line(0, "");
         // adc_bailout 0: the default (1/255) drops faint secondary rays, which our model keeps.
         line(0, "global_settings {");
         line(1, "assumed_gamma 1.0");
-        line(1, "ambient_light rgb " + (shaded ? colour(scene_.ambient_light) : triple(1, 1, 1)));
-        line(1, "max_trace_level " + std::to_string(shaded ? scene_.max_depth : 1));
+        line(1, "ambient_light rgb " + (object_ids_ ? triple(1, 1, 1) : colour(scene_.ambient_light)));
+        line(1, "max_trace_level " + std::to_string(object_ids_ ? 1 : scene_.max_depth));
         line(1, "adc_bailout 0");
         line(0, "}");
         line(0, "");
-        line(0, "background { color rgb " + (shaded ? colour(scene_.background) : triple(0, 0, 0)) + " }");
+        line(0, "background { color rgb " + (object_ids_ ? triple(0, 0, 0) : colour(scene_.background)) + " }");
         line(0, "");
         // `right` is always explicit (POV-Ray's default is 1.33·x, not W/H). With |up| = 1 and
         // |right| = W/H, POV-Ray's direction length |right|/(2·tan(angle/2)) puts the image plane where
@@ -92,7 +174,7 @@ private:
         line(1, "look_at " + point(camera.look_at));
         line(0, "}");
         line(0, "");
-        if (shaded) {
+        if (!object_ids_) {
             // Point lights without fading; shadows on (`shadowless` is never set).
             for (const scene::Light& light : scene_.lights) {
                 line(0, "light_source { " + point(light.position) + " color rgb " + colour(light.color) + " }");
@@ -101,23 +183,81 @@ private:
         }
     }
 
-    void object(const scene::Object& object, int indent) {
+    template <class Visit>
+    void for_each_leaf(const scene::Object& object, const Visit& visit) const {
+        if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
+            for (const scene::Object& child : csg->children) {
+                for_each_leaf(child, visit);
+            }
+        } else {
+            visit(object);
+        }
+    }
+
+    InteriorPlan plan_interior(const scene::Object& object) const {
+        InteriorPlan plan;
+        plan.shared = true;
+        for_each_leaf(object, [&](const scene::Object& leaf) {
+            const scene::Material& m = scene_.materials[static_cast<std::size_t>(leaf.material)];
+            const PovMaterial& p = materials_[static_cast<std::size_t>(leaf.material)];
+            if (m.transmission == 0) {
+                return;
+            }
+            if (!plan.transparent) {
+                plan.ior = m.ior;
+                plan.refraction = p.refraction;
+            } else if (m.ior != plan.ior || p.refraction != plan.refraction) {
+                plan.shared = false;
+            }
+            plan.transparent = true;
+            plan.needs_shadow_caster = plan.needs_shadow_caster || p.transmit != m.transmission;
+        });
+        plan.shared = plan.shared && plan.transparent;
+        return plan;
+    }
+
+    void top_level(const scene::Object& object) {
+        if (object_ids_) {
+            write_object(object, 0, Pass::object_ids);
+            return;
+        }
+        plan_ = plan_interior(object);
+        std::vector<std::string> modifiers;
+        if (plan_.shared) {
+            modifiers.push_back("interior { ior " + number(plan_.ior) + " }");
+        } else if (plan_.transparent) {
+            modifiers.push_back("// transparent primitives with different ior or k keep their own interiors: not exact (docs/povray.md)");
+        }
+        if (plan_.needs_shadow_caster) {
+            modifiers.push_back("no_shadow  // the copy below casts this object's shadows");
+        }
+        write_object(object, 0, Pass::shaded, modifiers);
+        if (plan_.needs_shadow_caster) {
+            line(0, "// The same object, invisible to every ray but shadow rays, passing our transmission to shadows.");
+            write_object(object, 0, Pass::shadow_caster, {"no_image", "no_reflection"});
+        }
+    }
+
+    // `modifiers` close the object's block (POV-Ray wants object modifiers after a CSG's children).
+    void write_object(const scene::Object& object, int indent, Pass pass, const std::vector<std::string>& modifiers = {}) {
         std::visit(
             [&](const auto& shape) {
                 using S = std::decay_t<decltype(shape)>;
                 if constexpr (std::is_same_v<S, scene::Csg>) {
                     line(indent, std::string(csg_keyword(shape.op)) + " {");
                     for (const scene::Object& child : shape.children) {
-                        this->object(child, indent + 1);
+                        write_object(child, indent + 1, pass);
                     }
-                    line(indent, "}");
                 } else {
                     line(indent, "// " + scene_.leaf_paths.at(static_cast<std::size_t>(object.leaf)));
-                    line(indent, primitive(shape) + " {");
+                    line(indent, std::string(primitive(shape)) + " {");
                     line(indent + 1, geometry(shape));
-                    appearance(object, indent + 1);
-                    line(indent, "}");
+                    appearance(object, indent + 1, pass);
                 }
+                for (const std::string& modifier : modifiers) {
+                    line(indent + 1, modifier);
+                }
+                line(indent, "}");
             },
             object.shape);
     }
@@ -139,8 +279,10 @@ private:
         return triple(box.min[0], box.min[1], -box.max[2]) + ", " + triple(box.max[0], box.max[1], -box.min[2]);
     }
 
-    void appearance(const scene::Object& leaf, int indent) {
-        if (pass_ == Pass::object_ids) {
+    void appearance(const scene::Object& leaf, int indent, Pass pass) {
+        const auto material = static_cast<std::size_t>(leaf.material);
+        const scene::Material& m = scene_.materials.at(material);
+        if (pass == Pass::object_ids) {
             int id = leaf.leaf + 1;
             if (id > 65535) {
                 throw std::invalid_argument("the object-id pass encodes at most 65535 primitives");
@@ -151,41 +293,47 @@ private:
             line(indent, "finish { ambient 1 diffuse 0 }");
             return;
         }
-        const scene::Material& m = scene_.materials.at(static_cast<std::size_t>(leaf.material));
-        double t = m.transmission;
-        // POV-Ray weighs a transparent surface's own ambient and diffuse by its opacity (1 − transmit);
-        // dividing by it restores our formula. At transmission ≥ 1 nothing can: the terms are left out.
-        double own = t == 0 ? 1.0 : (t < 1 ? 1.0 / (1.0 - t) : 0.0);
-        if (t >= 1) {
-            line(indent, "// transmission >= 1: POV-Ray cannot show this surface's ambient and diffuse terms");
+        if (pass == Pass::shadow_caster) {
+            // A shadow ray keeps the pigment's transmit at each surface it crosses, as ours keeps t.
+            line(indent, "pigment { color rgbt <0, 0, 0, " + number(m.transmission) + "> }");
+            return;
         }
-        line(indent, "// material " + scene_.material_names.at(static_cast<std::size_t>(leaf.material)));
+        const PovMaterial& p = materials_.at(material);
+        line(indent, "// material " + scene_.material_names.at(material));
         line(indent, "texture {");
-        // rgbt: the transmitted ray and light through shadows are weighed by t, uncoloured, as ours.
+        // rgbt: transmitted light and light through shadows are weighed by the transmit, uncoloured.
         line(indent + 1, "pigment { color rgbt <" + number(m.color[0]) + ", " + number(m.color[1]) + ", " +
-                             number(m.color[2]) + ", " + number(t) + "> }");
-        line(indent + 1, "finish { ambient " + number(m.ambient * own) + " diffuse " + number(m.diffuse * own) + " phong " +
-                             number(m.phong) + " phong_size " + number(m.phong_size) + " reflection " +
-                             number(m.reflection) + " }");
+                             number(m.color[2]) + ", " + number(p.transmit) + "> }");
+        std::string finish = "finish { ambient " + number(m.ambient * p.own_scale) + " diffuse " +
+                             number(m.diffuse * p.own_scale) + " phong " + number(m.phong) + " phong_size " +
+                             number(m.phong_size) + " reflection " + number(m.reflection);
+        // Every primitive of an object with a shared interior carries its k (see InteriorPlan).
+        double k = plan_.shared ? plan_.refraction : p.refraction;
+        if (k != 1) {
+            finish += " refraction " + number(k);
+        }
+        line(indent + 1, finish + " }");
         line(indent, "}");
-        if (t > 0) {
+        if (m.transmission > 0 && !plan_.shared) {
             line(indent, "interior { ior " + number(m.ior) + " }");
         }
     }
 
     const scene::Scene& scene_;
-    Pass pass_;
+    bool object_ids_;
+    std::vector<PovMaterial> materials_;  // by material index
+    InteriorPlan plan_;                   // of the top-level object being written
     std::string text_;
 };
 
 }  // namespace
 
 std::string export_pov(const scene::Scene& scene, int width, int height) {
-    return Writer(scene, Pass::shaded).write(width, height);
+    return Writer(scene, false).write(width, height);
 }
 
 std::string export_pov_object_ids(const scene::Scene& scene, int width, int height) {
-    return Writer(scene, Pass::object_ids).write(width, height);
+    return Writer(scene, true).write(width, height);
 }
 
 }  // namespace twinray::pov

@@ -20,7 +20,8 @@ int resolve_thread_count(int requested) {
 // The calling thread is one of the workers (one thread fewer to start, which matters for renders of a
 // few milliseconds), and it alone reports progress, between its items.
 std::uint64_t parallel_for(int count, int threads, const std::function<std::uint64_t(int item)>& work,
-                           const std::function<void(double fraction_done)>& progress) {
+                           const std::function<void(double fraction_done)>& progress,
+                           const std::atomic<bool>* cancel) {
     std::atomic<int> next_item{0};
     std::atomic<int> items_done{0};
     std::atomic<std::uint64_t> total{0};
@@ -32,6 +33,10 @@ std::uint64_t parallel_for(int count, int threads, const std::function<std::uint
         try {
             std::uint64_t sum = 0;
             for (int item = next_item++; item < count; item = next_item++) {
+                // Relaxed is enough: the flag carries no data, and stopping one item later is harmless.
+                if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
+                    throw RenderCancelled();
+                }
                 sum += work(item);
                 ++items_done;
                 if (reports_progress && progress && std::chrono::steady_clock::now() - last_report > std::chrono::milliseconds(100)) {

@@ -208,6 +208,72 @@ Vec4 spawn_origin(const Hit4& hit, const Vec4& direction) {
     return hit.point + (side * offset) * hit.normal;
 }
 
+// Recording the ray tree (twinray probe) of lane 0, where the per-ray API runs its one ray. Each helper
+// does nothing without a tree (or when lane 0 is not active), so tracing packets without one costs a
+// null test per call.
+inline Vec3d lane0(const Vec4& v) {
+    return {static_cast<double>(v.x.lane(0)), static_cast<double>(v.y.lane(0)), static_cast<double>(v.z.lane(0))};
+}
+
+int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const RayPacket& rays, const Hit4& hit) {
+    if (tree == nullptr || (movemask(rays.active) & 1) == 0) {
+        return -1;
+    }
+    int index = tree->add(kind, depth, parent, lane0({rays.origin[0], rays.origin[1], rays.origin[2]}),
+                          lane0({rays.direction[0], rays.direction[1], rays.direction[2]}));
+    RayNode& node = tree->nodes[static_cast<std::size_t>(index)];
+    if (movemask(hit.hit) & 1) {
+        alignas(16) std::int32_t leaf[4];
+        hit.leaf.store(leaf);
+        node.hit = true;
+        node.leaf = leaf[0];
+        node.t = static_cast<double>(hit.t.lane(0));
+        node.point = lane0(hit.point);
+        node.normal = lane0(hit.normal);
+        node.entering = (movemask(hit.entering) & 1) != 0;
+    }
+    return index;
+}
+
+// Lane 0's light: facing away (not in `lit`: no shadow ray), else its shadow ray and transmittance.
+void record_light(RayTree* tree, int node, vfloat4 lambert, vbool4 lit, const Vec4& shadow_origin, Vec3 light_position,
+                  vfloat4 transmittance) {
+    if (tree == nullptr || node < 0) {
+        return;
+    }
+    LightVisibility light{static_cast<double>(lambert.lane(0)), true, 0, {}, {}};
+    if (movemask(lit) & 1) {
+        light.faces_away = false;
+        light.transmittance = static_cast<double>(transmittance.lane(0));
+        light.shadow_origin = lane0(shadow_origin);
+        light.shadow_direction = lane0(normalize(broadcast(light_position) - shadow_origin));
+    }
+    tree->nodes[static_cast<std::size_t>(node)].lights.push_back(light);
+}
+
+void record_light_facing_away(RayTree* tree, int node, vfloat4 lambert) {
+    if (tree != nullptr && node >= 0) {
+        tree->nodes[static_cast<std::size_t>(node)].lights.push_back({static_cast<double>(lambert.lane(0)), true, 0, {}, {}});
+    }
+}
+
+void record_local_color(RayTree* tree, int node, const Color4& color) {
+    if (tree != nullptr && node >= 0) {
+        tree->nodes[static_cast<std::size_t>(node)].local = lane0(color);
+    }
+}
+
+// On a miss the background is both the local and the total colour.
+void record_total_color(RayTree* tree, int node, const Color4& color) {
+    if (tree != nullptr && node >= 0) {
+        RayNode& n = tree->nodes[static_cast<std::size_t>(node)];
+        n.total = lane0(color);
+        if (!n.hit) {
+            n.local = n.total;
+        }
+    }
+}
+
 class PacketTracer {
 public:
     explicit PacketTracer(const CompiledScene& scene) : scene_(scene) {}
@@ -230,18 +296,25 @@ public:
 
     Hit4 intersect(RayPacket& rays) const { return intersect(rays, scene_.primitives); }
 
-    Color4 trace(RayPacket& rays, int depth, std::uint64_t& ray_count) const {
-        return trace(rays, scene_.primitives, depth, ray_count);
+    // `tree`, if given, records lane 0's ray as a `kind` child of node `parent`, and all it spawns.
+    Color4 trace(RayPacket& rays, int depth, std::uint64_t& ray_count, RayTree* tree = nullptr,
+                 RayKind kind = RayKind::primary, int parent = -1) const {
+        return trace(rays, scene_.primitives, depth, ray_count, tree, kind, parent);
     }
 
-    Color4 trace(RayPacket& rays, const PrimitiveLists& candidates, int depth, std::uint64_t& ray_count) const {
+    Color4 trace(RayPacket& rays, const PrimitiveLists& candidates, int depth, std::uint64_t& ray_count,
+                 RayTree* tree = nullptr, RayKind kind = RayKind::primary, int parent = -1) const {
         ray_count += lane_count(rays.active);
         Hit4 hit = intersect(rays, candidates);
+        int node = record_ray(tree, kind, depth, parent, rays, hit);
         Color4 background = broadcast(scene_.background);
         if (none(hit.hit)) {
+            record_total_color(tree, node, background);
             return background;
         }
-        return select(hit.hit, shade(rays, hit, depth, ray_count), background);
+        Color4 color = select(hit.hit, shade(rays, hit, depth, ray_count, tree, node), background);
+        record_total_color(tree, node, color);
+        return color;
     }
 
 private:
@@ -436,7 +509,9 @@ private:
 
     // I = ambient·C·ambient_light + Σ_lights shadow·(diffuse·C·Lc·(N·L) + phong·Lc·max(0, R·L)^phong_size)
     //   + reflection·I(reflected) + transmission·I(refracted)          (SCENES.md, "Shading")
-    Color4 shade(const RayPacket& rays, const Hit4& hit, int depth, std::uint64_t& ray_count) const {
+    // `node`: lane 0's ray in `tree`, if recording.
+    Color4 shade(const RayPacket& rays, const Hit4& hit, int depth, std::uint64_t& ray_count, RayTree* tree,
+                 int node) const {
         Material4 m = gather_material(hit);
         vfloat4 zero(0.0f);
         Vec4 direction{rays.direction[0], rays.direction[1], rays.direction[2]};
@@ -448,10 +523,13 @@ private:
             vfloat4 lambert = dot(hit.normal, to_light);
             vbool4 lit = hit.hit & (lambert > zero);
             if (none(lit)) {
+                record_light_facing_away(tree, node, lambert);
                 continue;
             }
             ray_count += lane_count(lit);
-            vfloat4 shadow = shadow_transmittance(spawn_origin(hit, to_light), light.position, lit);
+            Vec4 shadow_origin = spawn_origin(hit, to_light);
+            vfloat4 shadow = shadow_transmittance(shadow_origin, light.position, lit);
+            record_light(tree, node, lambert, lit, shadow_origin, light.position, shadow);
             vbool4 reached = lit & (shadow > zero);
             if (none(reached)) {
                 continue;
@@ -464,6 +542,7 @@ private:
             }
             color = select(reached, color + shadow * (diffuse + highlight * light_color), color);
         }
+        record_local_color(tree, node, color);
         if (depth >= scene_.max_depth) {
             return color;
         }
@@ -480,22 +559,25 @@ private:
                 vfloat4 cos_transmitted = sqrt(max(vfloat4(1.0f) - sin2_transmitted, zero));
                 Vec4 refracted = normalize(eta * direction + (eta * cos_incident - cos_transmitted) * hit.normal);
                 color = color + select(refracting, m.transmission, zero) *
-                                    trace_secondary(hit, refracted, refracting, depth, ray_count);
+                                    trace_secondary(hit, refracted, refracting, depth, ray_count, tree,
+                                                    RayKind::refracted, node);
             }
         }
         vbool4 reflecting = reflection > zero;
         if (any(reflecting)) {
-            color = color + reflection * trace_secondary(hit, mirror, reflecting, depth, ray_count);
+            color = color + reflection * trace_secondary(hit, mirror, reflecting, depth, ray_count, tree,
+                                                         RayKind::reflected, node);
         }
         return color;
     }
 
-    Color4 trace_secondary(const Hit4& hit, const Vec4& direction, vbool4 lanes, int depth, std::uint64_t& ray_count) const {
+    Color4 trace_secondary(const Hit4& hit, const Vec4& direction, vbool4 lanes, int depth, std::uint64_t& ray_count,
+                           RayTree* tree, RayKind kind, int parent) const {
         Vec4 origin = spawn_origin(hit, direction);
         const vfloat4 origins[3] = {origin.x, origin.y, origin.z};
         const vfloat4 directions[3] = {direction.x, direction.y, direction.z};
         RayPacket rays(origins, directions, lanes);
-        Color4 color = trace(rays, depth + 1, ray_count);
+        Color4 color = trace(rays, depth + 1, ray_count, tree, kind, parent);
         return select(lanes, color, Color4{vfloat4(0.0f), vfloat4(0.0f), vfloat4(0.0f)});
     }
 
@@ -635,10 +717,10 @@ std::optional<Hit> Tracer::intersect(const Ray& ray) const {
     return hit;
 }
 
-Color Tracer::trace(const Ray& ray, int depth, std::uint64_t* rays) const {
+Color Tracer::trace(const Ray& ray, int depth, std::uint64_t* rays, RayTree* tree) const {
     RayPacket packet = single_ray_packet(ray);
     std::uint64_t count = 0;
-    Color4 color = PacketTracer(*scene_).trace(packet, depth, count);
+    Color4 color = PacketTracer(*scene_).trace(packet, depth, count, tree);
     if (rays != nullptr) {
         *rays += count;
     }
@@ -699,7 +781,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
             }
             return tile_rays;
         },
-        options.progress);
+        options.progress, options.cancel);
     return {std::move(image), ray_count};
 }
 

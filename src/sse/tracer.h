@@ -7,6 +7,7 @@
 // cpu_supports_sse41() (sse/cpu.h) before constructing a Tracer.
 #pragma once
 
+#include "render/ray_tree.h"
 #include "render/render.h"
 #include "scene/scene.h"
 #include "sse/vec3.h"
@@ -41,7 +42,9 @@ public:
     Tracer& operator=(const Tracer&) = delete;
 
     std::optional<Hit> intersect(const Ray& ray) const;
-    Color trace(const Ray& ray, int depth, std::uint64_t* rays = nullptr) const;
+    // `tree`, if given, receives every ray traced, what it hit, each light's visibility and its colours
+    // (twinray probe); the colour is the same with or without it.
+    Color trace(const Ray& ray, int depth, std::uint64_t* rays = nullptr, RayTree* tree = nullptr) const;
     Ray primary_ray(int x, int y, int width, int height) const;
 
     const CompiledScene& compiled() const { return *scene_; }
