@@ -107,7 +107,7 @@ Vec3d to_vec3d(Vec3<T> v) {
 
 template <typename T>
 int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const Ray<T>& ray, const std::optional<Hit<T>>& hit) {
-    if (tree == nullptr) {
+    if (tree == nullptr) [[likely]] {
         return -1;
     }
     int index = tree->add(kind, depth, parent, to_vec3d(ray.origin), to_vec3d(ray.direction));
@@ -126,14 +126,15 @@ int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const Ray<T>&
 // A light the surface faces away from (N·L ≤ 0): no shadow ray.
 template <typename T>
 void record_light(RayTree* tree, int node, T lambert) {
-    if (tree != nullptr) {
+    if (tree != nullptr) [[unlikely]] {
         tree->nodes[static_cast<std::size_t>(node)].lights.push_back({static_cast<double>(lambert), true, 0, {}, {}});
     }
 }
 
+// A light whose shadow ray, from `shadow_origin`, found `transmittance`.
 template <typename T>
 void record_light(RayTree* tree, int node, T lambert, Vec3<T> shadow_origin, Vec3<T> light_position, T transmittance) {
-    if (tree != nullptr) {
+    if (tree != nullptr) [[unlikely]] {
         tree->nodes[static_cast<std::size_t>(node)].lights.push_back(
             {static_cast<double>(lambert), false, static_cast<double>(transmittance), to_vec3d(shadow_origin),
              to_vec3d(normalize(light_position - shadow_origin))});
@@ -142,7 +143,7 @@ void record_light(RayTree* tree, int node, T lambert, Vec3<T> shadow_origin, Vec
 
 template <typename T>
 void record_local_color(RayTree* tree, int node, Color<T> color) {
-    if (tree != nullptr) {
+    if (tree != nullptr) [[unlikely]] {
         tree->nodes[static_cast<std::size_t>(node)].local = to_vec3d(color);
     }
 }
@@ -150,7 +151,7 @@ void record_local_color(RayTree* tree, int node, Color<T> color) {
 // On a miss the background is both the local and the total colour.
 template <typename T>
 void record_total_color(RayTree* tree, int node, Color<T> color) {
-    if (tree != nullptr) {
+    if (tree != nullptr) [[unlikely]] {
         RayNode& n = tree->nodes[static_cast<std::size_t>(node)];
         n.total = to_vec3d(color);
         if (!n.hit) {

@@ -1,4 +1,6 @@
 // The twinray command line as a user meets it: exit statuses, messages, and what is (not) written.
+#include "run_twinray.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -13,25 +15,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-    int exit_status;
-    std::string output;  // stdout and stderr together
-};
-
-CommandResult run_twinray(const std::string& arguments, const std::string& environment = "") {
-    std::string command = environment + " " + std::string(TWINRAY_BINARY) + " " + arguments + " 2>&1";
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (pipe == nullptr) {
-        return {-1, "popen failed"};
-    }
-    std::string output;
-    std::array<char, 4096> buffer{};
-    while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr) {
-        output += buffer.data();
-    }
-    int status = ::pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using twinray::test::CommandResult;
+using twinray::test::run_twinray;
 
 std::string scene(const std::string& name) {
     return std::string(TWINRAY_SOURCE_DIR) + "/scenes/" + name;

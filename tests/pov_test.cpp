@@ -9,6 +9,7 @@
 #include "image/image_file.h"
 #include "pov/exporter.h"
 #include "pov/povray_runner.h"
+#include "tests/run_twinray.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
 
@@ -487,25 +488,8 @@ TEST(PovExporter, ObjectIdPassColoursEachPrimitiveByItsIdWithoutLights) {
 
 // `twinray pov` as a user meets it.
 
-struct CommandResult {
-    int exit_status;
-    std::string output;
-};
-
-CommandResult run_twinray(const std::string& arguments) {
-    std::string command = std::string(TWINRAY_BINARY) + " " + arguments + " 2>&1";
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (pipe == nullptr) {
-        return {-1, "popen failed"};
-    }
-    std::string output;
-    std::array<char, 4096> buffer{};
-    while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr) {
-        output += buffer.data();
-    }
-    int status = ::pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using twinray::test::CommandResult;
+using twinray::test::run_twinray;
 
 class PovCommand : public ::testing::Test {
 protected:

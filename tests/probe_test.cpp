@@ -15,6 +15,7 @@
 #include <iterator>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <utility>
 #include <vector>
 
@@ -29,11 +30,12 @@ struct CommandResult {
     std::string everything;  // stdout, then stderr
 };
 
-// Runs the binary once: stdout through the pipe, stderr into a file beside the test's other output.
+// Runs the binary once: stdout through the pipe, stderr into a file of this process's own (tests run
+// in parallel, and two ctest runs may share a build tree).
 CommandResult run_twinray(const std::string& arguments, const std::string& environment = "") {
     std::filesystem::path folder = std::filesystem::path(TWINRAY_TEST_OUTPUT_DIR) / "probe";
     std::filesystem::create_directories(folder);
-    std::filesystem::path errors = folder / "stderr.txt";
+    std::filesystem::path errors = folder / ("stderr-" + std::to_string(::getpid()) + ".txt");
     std::string command = environment + " " + std::string(TWINRAY_BINARY) + " " + arguments + " 2>" + errors.string();
     FILE* pipe = ::popen(command.c_str(), "r");
     if (pipe == nullptr) {
@@ -47,6 +49,8 @@ CommandResult run_twinray(const std::string& arguments, const std::string& envir
     int status = ::pclose(pipe);
     std::ifstream file(errors);
     std::string error_text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    file.close();
+    std::filesystem::remove(errors);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output, output + error_text};
 }
 

@@ -519,18 +519,21 @@ void print_json(const scene::Scene& scene, const std::string& scene_path, const 
     } else {
         json["ray"] = {{"origin", to_json(target.origin)}, {"direction", to_json(target.direction)}};
     }
-    json["thresholds"] = {{"position", limits.position},
-                          {"angle", limits.angle},
-                          {"transmittance", limits.transmittance},
-                          {"color", limits.color}};
+    // Keyed like a divergence's "what" (a light's is "transmittance"); t: |dt|·|cos θ| over S.
+    json["thresholds"] = {{"origin", limits.position},    {"direction", limits.angle},
+                          {"t", limits.position},         {"normal", limits.angle},
+                          {"transmittance", limits.transmittance}, {"local colour", limits.color},
+                          {"total colour", limits.color}};
     json["reference"] = tracer_json(scene, reference);
     json["sse"] = sse != nullptr ? tracer_json(scene, *sse) : Json();
     if (sse == nullptr) {
         json["sse_unavailable"] = sse_note;
     }
     Json all = Json::array();
-    for (const Divergence& d : divergences) {
-        all.push_back(divergence_json(scene, d, reference.tree, sse->tree));
+    if (sse != nullptr) {
+        for (const Divergence& d : divergences) {
+            all.push_back(divergence_json(scene, d, reference.tree, sse->tree));
+        }
     }
     json["divergence"] = divergences.empty() ? Json() : all.front();
     json["divergences"] = all;

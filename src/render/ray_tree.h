@@ -93,8 +93,8 @@ struct RayTree {
 // |cos θ| it is how far apart the two rays cross the surface. S is the size of the numbers involved:
 // single precision rounds a point by about ε·S. A secondary ray's origin is its parent's hit point, so
 // only the primary ray's origin is compared. Differences inherited from above grow with every bounce
-// (about 1e-7 on primary rays, up to 1e-2 at depth 5 and beyond on our scenes), hence thresholds far
-// above rounding: what they catch is a formula that gives another answer, not drift.
+// (about 1e-7 on primary rays; from depth 3 on, near 1e-2 at the 99.99th percentile on our scenes),
+// hence thresholds far above rounding: what they catch is a formula that gives another answer, not drift.
 struct DivergenceThresholds {
     double position = 1e-2;       // |Δt|·|cos θ| over S; the primary ray's |Δorigin|∞ over S
     double angle = 1e-2;          // radians between normals, between ray directions

@@ -208,20 +208,20 @@ Vec4 spawn_origin(const Hit4& hit, const Vec4& direction) {
     return hit.point + (side * offset) * hit.normal;
 }
 
-// Recording the ray tree (twinray probe) of lane 0, where the per-ray API runs its one ray. Each helper
-// does nothing without a tree (or when lane 0 is not active), so tracing packets without one costs a
-// null test per call.
+// Recording the ray tree (twinray probe) of lane 0, where the per-ray API runs its one ray. The tracing
+// code calls these only when it has a tree (one null test); they are cold, out of the packets' way.
 inline Vec3d lane0(const Vec4& v) {
     return {static_cast<double>(v.x.lane(0)), static_cast<double>(v.y.lane(0)), static_cast<double>(v.z.lane(0))};
 }
 
-int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const RayPacket& rays, const Hit4& hit) {
-    if (tree == nullptr || (movemask(rays.active) & 1) == 0) {
+// The node of lane 0's ray, or -1 when lane 0 is not active (then nothing below it is recorded).
+[[gnu::cold]] int record_ray(RayTree& tree, RayKind kind, int depth, int parent, const RayPacket& rays, const Hit4& hit) {
+    if ((movemask(rays.active) & 1) == 0) {
         return -1;
     }
-    int index = tree->add(kind, depth, parent, lane0({rays.origin[0], rays.origin[1], rays.origin[2]}),
-                          lane0({rays.direction[0], rays.direction[1], rays.direction[2]}));
-    RayNode& node = tree->nodes[static_cast<std::size_t>(index)];
+    int index = tree.add(kind, depth, parent, lane0({rays.origin[0], rays.origin[1], rays.origin[2]}),
+                         lane0({rays.direction[0], rays.direction[1], rays.direction[2]}));
+    RayNode& node = tree.nodes[static_cast<std::size_t>(index)];
     if (movemask(hit.hit) & 1) {
         alignas(16) std::int32_t leaf[4];
         hit.leaf.store(leaf);
@@ -236,9 +236,9 @@ int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const RayPack
 }
 
 // Lane 0's light: facing away (not in `lit`: no shadow ray), else its shadow ray and transmittance.
-void record_light(RayTree* tree, int node, vfloat4 lambert, vbool4 lit, const Vec4& shadow_origin, Vec3 light_position,
-                  vfloat4 transmittance) {
-    if (tree == nullptr || node < 0) {
+[[gnu::cold]] void record_light(RayTree& tree, int node, vfloat4 lambert, vbool4 lit, const Vec4& shadow_origin,
+                                Vec3 light_position, vfloat4 transmittance) {
+    if (node < 0) {
         return;
     }
     LightVisibility light{static_cast<double>(lambert.lane(0)), true, 0, {}, {}};
@@ -248,25 +248,25 @@ void record_light(RayTree* tree, int node, vfloat4 lambert, vbool4 lit, const Ve
         light.shadow_origin = lane0(shadow_origin);
         light.shadow_direction = lane0(normalize(broadcast(light_position) - shadow_origin));
     }
-    tree->nodes[static_cast<std::size_t>(node)].lights.push_back(light);
+    tree.nodes[static_cast<std::size_t>(node)].lights.push_back(light);
 }
 
-void record_light_facing_away(RayTree* tree, int node, vfloat4 lambert) {
-    if (tree != nullptr && node >= 0) {
-        tree->nodes[static_cast<std::size_t>(node)].lights.push_back({static_cast<double>(lambert.lane(0)), true, 0, {}, {}});
+[[gnu::cold]] void record_light_facing_away(RayTree& tree, int node, vfloat4 lambert) {
+    if (node >= 0) {
+        tree.nodes[static_cast<std::size_t>(node)].lights.push_back({static_cast<double>(lambert.lane(0)), true, 0, {}, {}});
     }
 }
 
-void record_local_color(RayTree* tree, int node, const Color4& color) {
-    if (tree != nullptr && node >= 0) {
-        tree->nodes[static_cast<std::size_t>(node)].local = lane0(color);
+[[gnu::cold]] void record_local_color(RayTree& tree, int node, const Color4& color) {
+    if (node >= 0) {
+        tree.nodes[static_cast<std::size_t>(node)].local = lane0(color);
     }
 }
 
 // On a miss the background is both the local and the total colour.
-void record_total_color(RayTree* tree, int node, const Color4& color) {
-    if (tree != nullptr && node >= 0) {
-        RayNode& n = tree->nodes[static_cast<std::size_t>(node)];
+[[gnu::cold]] void record_total_color(RayTree& tree, int node, const Color4& color) {
+    if (node >= 0) {
+        RayNode& n = tree.nodes[static_cast<std::size_t>(node)];
         n.total = lane0(color);
         if (!n.hit) {
             n.local = n.total;
@@ -306,14 +306,18 @@ public:
                  RayTree* tree = nullptr, RayKind kind = RayKind::primary, int parent = -1) const {
         ray_count += lane_count(rays.active);
         Hit4 hit = intersect(rays, candidates);
-        int node = record_ray(tree, kind, depth, parent, rays, hit);
+        int node = tree != nullptr ? record_ray(*tree, kind, depth, parent, rays, hit) : -1;
         Color4 background = broadcast(scene_.background);
         if (none(hit.hit)) {
-            record_total_color(tree, node, background);
+            if (tree != nullptr) {
+                record_total_color(*tree, node, background);
+            }
             return background;
         }
         Color4 color = select(hit.hit, shade(rays, hit, depth, ray_count, tree, node), background);
-        record_total_color(tree, node, color);
+        if (tree != nullptr) {
+            record_total_color(*tree, node, color);
+        }
         return color;
     }
 
@@ -523,13 +527,16 @@ private:
             vfloat4 lambert = dot(hit.normal, to_light);
             vbool4 lit = hit.hit & (lambert > zero);
             if (none(lit)) {
-                record_light_facing_away(tree, node, lambert);
+                if (tree != nullptr) {
+                    record_light_facing_away(*tree, node, lambert);
+                }
                 continue;
             }
             ray_count += lane_count(lit);
-            Vec4 shadow_origin = spawn_origin(hit, to_light);
-            vfloat4 shadow = shadow_transmittance(shadow_origin, light.position, lit);
-            record_light(tree, node, lambert, lit, shadow_origin, light.position, shadow);
+            vfloat4 shadow = shadow_transmittance(spawn_origin(hit, to_light), light.position, lit);
+            if (tree != nullptr) {
+                record_light(*tree, node, lambert, lit, spawn_origin(hit, to_light), light.position, shadow);
+            }
             vbool4 reached = lit & (shadow > zero);
             if (none(reached)) {
                 continue;
@@ -542,7 +549,9 @@ private:
             }
             color = select(reached, color + shadow * (diffuse + highlight * light_color), color);
         }
-        record_local_color(tree, node, color);
+        if (tree != nullptr) {
+            record_local_color(*tree, node, color);
+        }
         if (depth >= scene_.max_depth) {
             return color;
         }
