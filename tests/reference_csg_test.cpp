@@ -25,9 +25,6 @@ namespace test = twinray::test;
 using twinray::test::Expected;
 using twinray::test::first_hit;
 
-constexpr double tolerance = twinray::test::hit_tolerance;
-
-
 twinray::scene::Scene scene_of(twinray::scene::Object object) {
     test::SceneBuilder builder;
     builder.object(std::move(object));

@@ -88,9 +88,10 @@ std::string format(const char* pattern, double value) {
     return buffer;
 }
 
+// The size is given explicitly so the command finds the same pixel whatever --width diff ran at.
 std::string probe_command(const SceneReport& report, const compare::PixelError& pixel) {
-    std::string command = "twinray probe " + report.scene_path + " --pixel " + std::to_string(pixel.x) + "," + std::to_string(pixel.y);
-    return command;
+    return "twinray probe " + report.scene_path + " --pixel " + std::to_string(pixel.x) + "," + std::to_string(pixel.y) +
+           " --width " + std::to_string(report.width) + " --height " + std::to_string(report.height);
 }
 
 std::string percent(long count, long total) { return format("%.4f%%", 100.0 * static_cast<double>(count) / static_cast<double>(std::max(total, 1L))); }

@@ -600,8 +600,7 @@ void add_probe_command(CLI::App& app, std::function<int()>& run) {
     command->add_option("scene", arguments->scene_path, "Scene file (twinray-scene/1 JSON)")->required();
     command->add_option("--pixel", arguments->pixel, "X,Y: the pixel's primary ray, as render traces it (0,0 top-left)");
     command->add_option("--ray", arguments->ray,
-                        "ox,oy,oz,dx,dy,dz: a ray given by hand; the direction is normalised, so t is a distance "
-                        "(write --ray=-1,... when the first number is negative)");
+                        "ox,oy,oz,dx,dy,dz: a ray given by hand; the direction is normalised, so t is a distance");
     command->add_option("--width", arguments->width, "Image width for --pixel, as render; alone, the height follows the scene's aspect ratio")
         ->check(CLI::Range(1, 16384));
     command->add_option("--height", arguments->height, "Image height for --pixel, as render; alone, the width follows the scene's aspect ratio")
