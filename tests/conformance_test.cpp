@@ -1,6 +1,7 @@
 // The SSE tracer held against the reference<double> on every scene in scenes/: per primary ray (same
 // object; t, point and normal within a bound derived from float epsilon and the scene's scale) and per
 // image (max absolute error, share of pixels over 1/255). Measured maxima are printed on every run.
+#include "tests/scene_files.h"
 #include "compare/image_compare.h"
 #include "compare/tolerances.h"
 #include "image/image.h"
@@ -42,16 +43,7 @@ constexpr double normal_bound_radians = 1e-3;
 constexpr double band_pixels = 1e-3;
 
 
-std::vector<fs::path> scene_files() {
-    std::vector<fs::path> files;
-    for (const auto& entry : fs::directory_iterator(fs::path(TWINRAY_SOURCE_DIR) / "scenes")) {
-        if (entry.path().extension() == ".json") {
-            files.push_back(entry.path());
-        }
-    }
-    std::sort(files.begin(), files.end());
-    return files;
-}
+using twinray::test::scene_files;
 
 double largest_coordinate(const twinray::scene::Scene& scene) {
     double largest = 0;

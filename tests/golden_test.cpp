@@ -1,5 +1,6 @@
 // The reference tracer against its stored images (golden/): any change to the reference's output shows
 // here, with an error map, and is accepted only on purpose (`twinray golden --update`).
+#include "tests/scene_files.h"
 #include "compare/image_compare.h"
 #include "compare/tolerances.h"
 #include "image/image_file.h"
@@ -17,14 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<fs::path> scene_files() {
-    std::vector<fs::path> files;
-    for (const auto& entry : fs::directory_iterator(fs::path(TWINRAY_SOURCE_DIR) / "scenes")) {
-        if (entry.path().extension() == ".json") files.push_back(entry.path());
-    }
-    std::sort(files.begin(), files.end());
-    return files;
-}
+using twinray::test::scene_files;
 
 class Golden : public ::testing::TestWithParam<fs::path> {};
 

@@ -5,6 +5,7 @@
 // total internal reflection); and the share of pixels whose primary ray meets the same primitive in
 // both (POV-Ray renders an object-id pass). The numbers are printed on every run; docs/povray.md
 // explains each threshold and each residual difference. Also: the exporter's rules and `twinray pov`.
+#include "tests/scene_files.h"
 #include "compare/image_compare.h"
 #include "image/image_file.h"
 #include "pov/exporter.h"
@@ -76,16 +77,7 @@ const Thresholds& thresholds_for(const std::string& scene) {
     return standard;
 }
 
-std::vector<fs::path> scene_files() {
-    std::vector<fs::path> files;
-    for (const auto& entry : fs::directory_iterator(fs::path(TWINRAY_SOURCE_DIR) / "scenes")) {
-        if (entry.path().extension() == ".json") {
-            files.push_back(entry.path());
-        }
-    }
-    std::sort(files.begin(), files.end());
-    return files;
-}
+using twinray::test::scene_files;
 
 using twinray::pov::find_povray;
 
