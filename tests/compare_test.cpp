@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -124,6 +125,61 @@ TEST(CompareReadImage, ReadsBackWhatWriteImageWrote) {
     Image back = compare::read_image(file);
     EXPECT_TRUE(back == image);
     EXPECT_THROW(compare::read_image(fs::path(TWINRAY_TEST_OUTPUT_DIR) / "no_such.png"), compare::ImageReadError);
+}
+
+fs::path test_image(const std::string& name) { return fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "images" / name; }
+
+std::string refusal_of(const fs::path& file, std::int64_t pixel_limit = twinray::max_image_pixels) {
+    try {
+        compare::read_image(file, pixel_limit);
+    } catch (const compare::ImageReadError& error) {
+        return error.what();
+    }
+    return "";
+}
+
+// tests/data/images/ holds small files made with oiiotool (they also seed the image fuzz target).
+TEST(CompareReadImage, EightBitPngCornersReadAsTheirColours) {
+    Image image = compare::read_image(test_image("rgb8.png"));
+    ASSERT_EQ(image.width(), 5);
+    ASSERT_EQ(image.height(), 3);
+    EXPECT_TRUE((image.at(0, 0) == Rgb{1, 0, 0})) << image.at(0, 0).r << " " << image.at(0, 0).g;
+    EXPECT_TRUE((image.at(4, 0) == Rgb{0, 1, 0})) << image.at(4, 0).r << " " << image.at(4, 0).g;
+    EXPECT_TRUE((image.at(0, 2) == Rgb{0, 0, 1})) << image.at(0, 2).b;
+    EXPECT_TRUE((image.at(4, 2) == Rgb{1, 1, 1})) << image.at(4, 2).r;
+}
+
+TEST(CompareReadImage, GreyIsExpandedToThreeEqualChannelsAndAlphaIsDropped) {
+    Image grey = compare::read_image(test_image("grey8.png"));
+    EXPECT_TRUE((grey.at(0, 0) == Rgb{0, 0, 0}));
+    EXPECT_TRUE((grey.at(2, 0) == Rgb{1, 1, 1}));
+    Image rgba = compare::read_image(test_image("rgba16.png"));
+    EXPECT_NEAR(rgba.at(0, 0).r, 0.2f, 1.0f / 65535) << "16-bit PNG, top row";
+    EXPECT_NEAR(rgba.at(0, 0).b, 0.6f, 1.0f / 65535);
+}
+
+TEST(CompareReadImage, HalfExrKeepsValuesOutsideZeroToOne) {
+    Image image = compare::read_image(test_image("rgb_half.exr"));
+    EXPECT_TRUE((image.at(0, 0) == Rgb{0, 0.5f, 1})) << image.at(0, 0).g;
+    EXPECT_TRUE((image.at(3, 1) == Rgb{2.5f, -1, 0.25f})) << image.at(3, 1).r << " " << image.at(3, 1).g;
+    Image tiled = compare::read_image(test_image("tiled_piz.exr"));
+    EXPECT_NEAR(tiled.at(5, 3).b, 0.9f, 1e-3f) << "a 4 x 4-tiled, PIZ-compressed EXR, last pixel of the second tile";
+}
+
+TEST(CompareReadImage, AnImageOverThePixelLimitIsRefusedFromItsHeader) {
+    std::string refusal = refusal_of(test_image("rgb8.png"), 14);
+    EXPECT_NE(refusal.find("5 x 3 is 15 pixels, more than the limit of 14"), std::string::npos) << refusal;
+    EXPECT_EQ(refusal_of(test_image("rgb8.png"), 15), "");
+}
+
+TEST(CompareReadImage, TheExtensionChoosesTheReaderWithoutFallingBackToOthers) {
+    fs::path folder = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "misnamed";
+    fs::create_directories(folder);
+    fs::copy_file(test_image("rgb8.png"), folder / "png_inside.exr", fs::copy_options::overwrite_existing);
+    std::string refusal = refusal_of(folder / "png_inside.exr");
+    EXPECT_NE(refusal.find("png_inside.exr"), std::string::npos) << refusal;
+    std::ofstream(folder / "notes.txt") << "not an image";
+    EXPECT_NE(refusal_of(folder / "notes.txt").find("notes.txt"), std::string::npos);
 }
 
 }  // namespace

@@ -23,11 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The largest image render accepts, refused before anything is allocated: 8192 x 8192 pixels, whose
-// float RGB buffer alone is 768 MiB (the 8-bit copy for a PNG adds 192 MiB). Each side may be up to
-// 16384 (the scene format's limit), but 16384 x 16384 would need 3 GiB for the buffer.
-constexpr std::int64_t max_image_pixels = std::int64_t{8192} * 8192;
-
 // Set by SIGINT (Ctrl-C); the render loop reads it between items (RenderOptions::cancel). A lock-free
 // atomic is safe to store to from a signal handler.
 std::atomic<bool> interrupted{false};

@@ -4,9 +4,13 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
 
 namespace twinray::compare {
 namespace {
@@ -174,20 +178,53 @@ Image quantized_8bit(const Image& image) {
     return out;
 }
 
-Image read_image(const std::filesystem::path& path) {
-    OIIO::ImageBuf buffer(path.string());
-    if (!buffer.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-        throw ImageReadError("cannot read " + path.string() + ": " + buffer.geterror());
+Image read_image(const std::filesystem::path& path, std::int64_t pixel_limit) {
+    std::string name = path.string();
+    auto refuse = [&name](const std::string& why) { return ImageReadError("cannot read " + name + ": " + why); };
+    // An ImageInput rather than an ImageBuf: no shared ImageCache that would remember a file by its name.
+    // The reader is the one the extension names, without OpenImageIO's fallback of trying every other
+    // format on a file its reader refuses: a damaged .png is reported as such, and only one parser
+    // reads bytes it did not expect.
+    // (Given a file name, ImageInput::create sniffs the content; given the format's name, it cannot.)
+    std::string format = path.extension().string();
+    if (format.size() < 2) {
+        throw refuse("no extension to name its format (.png, .exr, or another that OpenImageIO reads)");
     }
-    const OIIO::ImageSpec& spec = buffer.spec();
-    if (spec.nchannels < 1 || spec.width < 1 || spec.height < 1) {
-        throw ImageReadError("cannot read " + path.string() + ": no pixels");
+    std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::create(format.substr(1));
+    if (!input) {
+        throw refuse(OIIO::geterror());
     }
-    if (spec.nchannels >= 3) {
-        return from_buffer(buffer);
+    OIIO::ImageSpec header;
+    if (!input->open(name, header)) {
+        throw refuse(input->geterror());
     }
-    OIIO::ImageBuf grey = OIIO::ImageBufAlgo::channels(buffer, 3, {0, 0, 0});
-    return from_buffer(grey);
+    // The header first: any file can claim any size, so the size is checked before pixels are allocated.
+    const OIIO::ImageSpec& spec = input->spec();
+    if (spec.nchannels < 1 || spec.width < 1 || spec.height < 1 || spec.depth != 1) {
+        throw refuse("not a 2-D image with pixels");
+    }
+    std::int64_t pixel_count = std::int64_t{spec.width} * spec.height;
+    if (pixel_count > pixel_limit) {
+        throw refuse(std::to_string(spec.width) + " x " + std::to_string(spec.height) + " is " +
+                     std::to_string(pixel_count) + " pixels, more than the limit of " + std::to_string(pixel_limit));
+    }
+    // Grey is read as one channel and expanded; a fourth channel and beyond (alpha) are never read.
+    int channels = std::min(spec.nchannels, 3);
+    // Not zero-filled: a truncated file that claims 8192 x 8192 fails without touching 768 MiB first.
+    auto samples = std::make_unique_for_overwrite<float[]>(static_cast<std::size_t>(pixel_count) *
+                                                           static_cast<std::size_t>(channels));
+    if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, samples.get())) {
+        throw refuse(input->geterror());
+    }
+    Image image(spec.width, spec.height);
+    for (int y = 0; y < spec.height; ++y) {
+        for (int x = 0; x < spec.width; ++x) {
+            const float* p = &samples[(static_cast<std::size_t>(y) * static_cast<std::size_t>(spec.width) +
+                                       static_cast<std::size_t>(x)) * static_cast<std::size_t>(channels)];
+            image.at(x, y) = channels == 3 ? Rgb{p[0], p[1], p[2]} : Rgb{p[0], p[0], p[0]};
+        }
+    }
+    return image;
 }
 
 }  // namespace twinray::compare

@@ -4,6 +4,7 @@
 
 #include "image/image.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
@@ -68,7 +69,8 @@ Image fail_mask(const Image& reference, const Image& other, double fail);
 Image clamped(const Image& image);
 Image quantized_8bit(const Image& image);
 
-// Any format OpenImageIO reads, as float RGB (grey is expanded, alpha dropped).
-Image read_image(const std::filesystem::path& path);
+// Any format OpenImageIO reads, as float RGB (grey is expanded, alpha dropped). Throws ImageReadError
+// for anything else, including images of more than `pixel_limit` pixels (checked from the header alone).
+Image read_image(const std::filesystem::path& path, std::int64_t pixel_limit = max_image_pixels);
 
 }  // namespace twinray::compare

@@ -2,9 +2,15 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace twinray {
+
+// The largest image twinray renders or reads, refused before anything is allocated: 8192 x 8192
+// pixels, whose float RGB buffer alone is 768 MiB (the 8-bit copy for a PNG adds 192 MiB). A side may
+// be up to 16384 (the scene format's limit), but 16384 x 16384 would need 3 GiB for the buffer.
+constexpr std::int64_t max_image_pixels = std::int64_t{8192} * 8192;
 
 struct Rgb {
     float r = 0, g = 0, b = 0;
