@@ -168,6 +168,17 @@ TEST_F(CliTest, CompareRefusesMismatchedSizesAndUnreadableFilesWithStatusFour) {
     EXPECT_NE(missing.output.find("nothing.png"), std::string::npos) << missing.output;
 }
 
+TEST_F(CliTest, CompareRefusesAFileThatIsNotTheFormatItsNameSaysWithStatusFour) {
+    ASSERT_EQ(run_twinray("render " + scene("csg.json") + " --width 64 -o " + output("good.png")).exit_status, 0);
+    std::ofstream(folder_ / "text.png") << "not a picture";
+    fs::copy_file(folder_ / "good.png", folder_ / "png_named.exr");
+    for (const char* name : {"text.png", "png_named.exr"}) {
+        CommandResult result = run_twinray("compare " + output("good.png") + " " + output(name));
+        EXPECT_EQ(result.exit_status, 4) << result.output;
+        EXPECT_NE(result.output.find(std::string("cannot read ") + output(name)), std::string::npos) << result.output;
+    }
+}
+
 TEST_F(CliTest, DiffWritesPerSceneImagesAndAReportWithProbeCommands) {
     CommandResult result = run_twinray("diff " + scene("csg.json") + " " + scene("spheres.json") + " --width 80 -o " + output("report"));
     ASSERT_EQ(result.exit_status, 0) << result.output;
