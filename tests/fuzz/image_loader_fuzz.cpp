@@ -10,14 +10,13 @@
 // one (docs/reliability.md).
 // Built only with -DTWINRAY_FUZZ=ON (preset `fuzz`, clang).
 #include "compare/image_compare.h"
+#include "promise.h"
 
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -28,21 +27,12 @@ namespace {
 namespace fs = std::filesystem;
 
 // Smaller than twinray's own limit (8192 x 8192): a mutated header easily claims millions of pixels, and
-// OpenImageIO's readers zero-fill a buffer of the claimed size before finding the data truncated, which
-// cut the rate to ~20 inputs/s. Below this limit every byte goes through the decoders as in
-// `twinray compare`; above it the same refusal path runs.
+// OpenImageIO's PNG reader zero-fills a buffer of the claimed size (up to 768 MiB) before it finds the
+// data truncated. Below this limit every byte goes through the decoders as in `twinray compare`; above
+// it the same refusal path runs.
 constexpr std::int64_t fuzz_pixel_limit = 512 * 512;
 
-[[noreturn]] void broken_promise(const char* what) {
-    std::fprintf(stderr, "image_loader_fuzz: %s\n", what);
-    std::abort();
-}
-
-void expect(bool holds, const char* what) {
-    if (!holds) {
-        broken_promise(what);
-    }
-}
+void expect(bool holds, const char* what) { twinray::fuzz::expect(holds, "image_loader_fuzz", what); }
 
 // OpenImageIO picks a reader by the file's extension and falls back to the others by content, as it
 // does for a user's file: the name follows the EXR magic number, else ".png" (our default output).

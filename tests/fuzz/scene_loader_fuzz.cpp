@@ -8,13 +8,12 @@
 //   finite, indices in range, unit plane normals, positive radii, non-degenerate boxes, bounded
 //   nesting. A broken promise aborts, so libFuzzer saves the input that broke it.
 // Built only with -DTWINRAY_FUZZ=ON (preset `fuzz`, clang); see docs/reliability.md.
+#include "promise.h"
 #include "scene/loader.h"
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <string_view>
 #include <variant>
 
@@ -22,16 +21,7 @@ namespace {
 
 using namespace twinray::scene;
 
-[[noreturn]] void broken_promise(const char* what) {
-    std::fprintf(stderr, "scene_loader_fuzz: accepted scene breaks a promise: %s\n", what);
-    std::abort();
-}
-
-void expect(bool holds, const char* what) {
-    if (!holds) {
-        broken_promise(what);
-    }
-}
+void expect(bool holds, const char* what) { twinray::fuzz::expect(holds, "scene_loader_fuzz", what); }
 
 bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 bool non_negative(const Vec3& v) { return v[0] >= 0 && v[1] >= 0 && v[2] >= 0; }
