@@ -4,6 +4,7 @@
 
 #include "reference/ray.h"
 
+#include <cmath>
 #include <optional>
 
 namespace twinray::reference {
@@ -32,6 +33,17 @@ std::optional<Span<T>> span_of(const PlaneShape<T>& plane, const Ray<T>& ray) {
         return Span<T>{infinitely_far(T(-1)), surface};
     }
     return Span<T>{surface, infinitely_far(T(1))};
+}
+
+// p' = p + (d − n·p)·n: n·p is rounded within γ(3)·|n|₁·|p|∞ ≤ γ(6)·|p|∞ (|n|₁ ≤ √3), the sum once more
+// per component, so p' is within γ(7)·|p'|∞ + γ(1)·|d| of the plane wherever p was along the ray. The
+// next ray decides its side by the sign of d − n·o, rounded within the same γ(6)·|o|∞ + γ(1)·|d|; its
+// origin's rounding adds γ(2)·|p'|∞.
+template <typename T>
+SurfacePoint<T> surface_point(const PlaneShape<T>& plane, Vec3<T> point, Vec3<T> /*normal: the plane's own*/) {
+    Vec3<T> projected = point + (plane.offset - dot(plane.normal, point)) * plane.normal;
+    T offset = rounding_bound<T>(15) * max_abs_component(projected) + rounding_bound<T>(2) * std::fabs(plane.offset);
+    return {projected, offset};
 }
 
 }  // namespace twinray::reference

@@ -1,0 +1,444 @@
+#include "numerics/numerics.h"
+
+#include "reference/tracer.h"
+#include "sse/tracer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <optional>
+
+namespace twinray::numerics {
+namespace {
+
+using Real = long double;
+
+struct Point {
+    Real x, y, z;
+};
+
+Point to_point(const scene::Vec3& v) { return {v[0], v[1], v[2]}; }
+Point operator-(Point a, Point b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Point operator*(Real s, Point a) { return {s * a.x, s * a.y, s * a.z}; }
+Real dot(Point a, Point b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Real length(Point a) { return std::sqrt(dot(a, a)); }
+
+// What measure() needs of a tracer, in double: its primary rays, its ray tree, and intersect() of a
+// ray taken from a tree (a shadow ray, which trees record but do not trace as a node).
+struct FirstHit {
+    bool hit = false;
+    int leaf = -1;
+    double t = 0;
+    Vec3d point{};
+    Vec3d normal{};
+};
+
+class AnyTracer {
+public:
+    virtual ~AnyTracer() = default;
+    virtual void trace_primary(int x, int y, int width, int height, RayTree& tree) const = 0;
+    virtual FirstHit primary_hit(int x, int y, int width, int height) const = 0;
+    virtual FirstHit intersect(const Vec3d& origin, const Vec3d& direction) const = 0;
+};
+
+template <typename V>
+Vec3d to_vec3d(const V& v) {
+    return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
+}
+
+template <typename H>
+FirstHit first_hit(const std::optional<H>& hit) {
+    if (!hit) {
+        return {};
+    }
+    return {true, hit->leaf, static_cast<double>(hit->t), to_vec3d(hit->point), to_vec3d(hit->normal)};
+}
+
+template <typename T>
+class ReferenceTracer final : public AnyTracer {
+public:
+    explicit ReferenceTracer(const scene::Scene& scene) : tracer_(scene) {}
+    void trace_primary(int x, int y, int width, int height, RayTree& tree) const override {
+        tracer_.trace(tracer_.primary_ray(x, y, width, height), 1, nullptr, &tree);
+    }
+    FirstHit primary_hit(int x, int y, int width, int height) const override {
+        return first_hit(tracer_.intersect(tracer_.primary_ray(x, y, width, height)));
+    }
+    FirstHit intersect(const Vec3d& o, const Vec3d& d) const override {
+        using V = reference::Vec3<T>;
+        V origin{static_cast<T>(o[0]), static_cast<T>(o[1]), static_cast<T>(o[2])};
+        V direction{static_cast<T>(d[0]), static_cast<T>(d[1]), static_cast<T>(d[2])};
+        return first_hit(tracer_.intersect({origin, direction}));
+    }
+
+private:
+    reference::Tracer<T> tracer_;
+};
+
+class SseTracer final : public AnyTracer {
+public:
+    explicit SseTracer(const scene::Scene& scene) : tracer_(scene) {}
+    void trace_primary(int x, int y, int width, int height, RayTree& tree) const override {
+        tracer_.trace(tracer_.primary_ray(x, y, width, height), 1, nullptr, &tree);
+    }
+    FirstHit primary_hit(int x, int y, int width, int height) const override {
+        return first_hit(tracer_.intersect(tracer_.primary_ray(x, y, width, height)));
+    }
+    FirstHit intersect(const Vec3d& o, const Vec3d& d) const override {
+        sse::Vec3 origin{static_cast<float>(o[0]), static_cast<float>(o[1]), static_cast<float>(o[2])};
+        sse::Vec3 direction{static_cast<float>(d[0]), static_cast<float>(d[1]), static_cast<float>(d[2])};
+        return first_hit(tracer_.intersect({origin, direction}));
+    }
+
+private:
+    sse::Tracer tracer_;
+};
+
+std::unique_ptr<AnyTracer> make_tracer(const scene::Scene& scene, TracerKind kind) {
+    switch (kind) {
+        case TracerKind::reference_double: return std::make_unique<ReferenceTracer<double>>(scene);
+        case TracerKind::reference_float: return std::make_unique<ReferenceTracer<float>>(scene);
+        case TracerKind::sse: return std::make_unique<SseTracer>(scene);
+    }
+    return nullptr;
+}
+
+scene::Vec3 moved(const scene::Vec3& p, double scale, double shift) {
+    return {p[0] * scale + shift, p[1] * scale + shift, p[2] * scale + shift};
+}
+
+void transform_object(scene::Object& object, double scale, double shift) {
+    std::visit(
+        [&](auto& shape) {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<S, scene::Plane>) {
+                shape.offset = shape.offset * scale + shift * (shape.normal[0] + shape.normal[1] + shape.normal[2]);
+            } else if constexpr (std::is_same_v<S, scene::Sphere>) {
+                shape.center = moved(shape.center, scale, shift);
+                shape.radius *= scale;
+            } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
+                shape.base = moved(shape.base, scale, shift);
+                shape.cap = moved(shape.cap, scale, shift);
+                shape.radius *= scale;
+            } else if constexpr (std::is_same_v<S, scene::Box>) {
+                shape.min = moved(shape.min, scale, shift);
+                shape.max = moved(shape.max, scale, shift);
+            } else {
+                for (scene::Object& child : shape.children) {
+                    transform_object(child, scale, shift);
+                }
+            }
+        },
+        object.shape);
+}
+
+void collect_leaves(const scene::Object& object, std::vector<const scene::Object*>& leaves) {
+    if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
+        for (const scene::Object& child : csg->children) {
+            collect_leaves(child, leaves);
+        }
+    } else {
+        leaves.push_back(&object);
+    }
+}
+
+const char* primitive_name(const scene::Object& primitive) {
+    constexpr const char* names[] = {"plane", "sphere", "cylinder", "box", "csg"};
+    return names[primitive.shape.index()];
+}
+
+// The first t > 0 at which the line origin + t·direction crosses the primitive's surface, in long double
+// (+∞ if none): what the tracer should have found for a ray leaving that primitive.
+Real first_crossing(const scene::Object& primitive, const Vec3d& origin, const Vec3d& direction) {
+    Point o{origin[0], origin[1], origin[2]};
+    Point d{direction[0], direction[1], direction[2]};
+    Real first = std::numeric_limits<Real>::infinity();
+    auto consider = [&](Real t) {
+        if (t > 0 && t < first) {
+            first = t;
+        }
+    };
+    auto at = [&](Real t) { return Point{o.x + t * d.x, o.y + t * d.y, o.z + t * d.z}; };
+    std::visit(
+        [&](const auto& shape) {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<S, scene::Plane>) {
+                Point n = to_point(shape.normal);
+                consider((shape.offset * length(n) - dot(n, o)) / dot(n, d));
+            } else if constexpr (std::is_same_v<S, scene::Sphere>) {
+                Point f = o - to_point(shape.center);
+                Real a = dot(d, d), b = dot(f, d), c = dot(f, f) - Real(shape.radius) * shape.radius;
+                Real discriminant = b * b - a * c;
+                if (discriminant >= 0) {
+                    Real q = -b - std::copysign(std::sqrt(discriminant), b);
+                    consider(q / a);
+                    consider(c / q);
+                }
+            } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
+                Point base = to_point(shape.base);
+                Point along = to_point(shape.cap) - base;
+                Real height = length(along);
+                Point axis = (1 / height) * along;
+                Point f = o - base;
+                Point f_perp = f - dot(f, axis) * axis;
+                Point d_perp = d - dot(d, axis) * axis;
+                Real a = dot(d_perp, d_perp), b = dot(f_perp, d_perp), c = dot(f_perp, f_perp) - Real(shape.radius) * shape.radius;
+                Real discriminant = b * b - a * c;
+                if (a > 0 && discriminant >= 0) {
+                    Real q = -b - std::copysign(std::sqrt(discriminant), b);
+                    for (Real t : {q / a, c / q}) {
+                        Real axial = dot(at(t) - base, axis);
+                        if (axial >= 0 && axial <= height) consider(t);
+                    }
+                }
+                Real axial_speed = dot(d, axis);
+                for (Real cap_height : {Real(0), height}) {
+                    Real t = (cap_height - dot(f, axis)) / axial_speed;
+                    Point g = at(t) - base;
+                    if (length(g - dot(g, axis) * axis) <= shape.radius) consider(t);
+                }
+            } else if constexpr (std::is_same_v<S, scene::Box>) {
+                for (int axis = 0; axis < 3; ++axis) {
+                    Real o_axis = axis == 0 ? o.x : axis == 1 ? o.y : o.z;
+                    Real d_axis = axis == 0 ? d.x : axis == 1 ? d.y : d.z;
+                    for (double face : {shape.min[axis], shape.max[axis]}) {
+                        Real t = (face - o_axis) / d_axis;
+                        Point p = at(t);
+                        bool on_face = true;
+                        for (int other = 0; other < 3; ++other) {
+                            Real c = other == 0 ? p.x : other == 1 ? p.y : p.z;
+                            on_face = on_face && (other == axis || (c >= shape.min[other] && c <= shape.max[other]));
+                        }
+                        if (on_face) consider(t);
+                    }
+                }
+            }
+        },
+        primitive.shape);
+    return first;
+}
+
+// A ray that left `node`'s surface re-hits it by error: the tracer finds that same primitive at less than
+// half the distance where the exact line first crosses it (a grazing ray that legitimately crosses the
+// primitive again close by is found where the exact line crosses it, and is not counted).
+bool is_self_hit(const RayNode& node, const scene::Object& primitive, const Vec3d& origin, const Vec3d& direction,
+                 const FirstHit& next) {
+    return next.hit && next.leaf == node.leaf && next.t < 0.5 * static_cast<double>(first_crossing(primitive, origin, direction));
+}
+
+}  // namespace
+
+const char* tracer_name(TracerKind kind) {
+    switch (kind) {
+        case TracerKind::reference_double: return "reference";
+        case TracerKind::reference_float: return "reference-float";
+        case TracerKind::sse: return "sse";
+    }
+    return "?";
+}
+
+std::vector<ScaleCase> scale_cases() {
+    std::vector<ScaleCase> cases;
+    for (int exponent = -4; exponent <= 6; ++exponent) {
+        cases.push_back({std::pow(10.0, exponent), 0.0, 1.0});
+    }
+    for (int exponent = 1; exponent <= 6; ++exponent) {
+        cases.push_back({1.0, std::pow(10.0, exponent), 1.0});
+    }
+    for (int exponent = 2; exponent <= 4; ++exponent) {
+        cases.push_back({1.0, 0.0, std::pow(10.0, exponent)});
+    }
+    return cases;
+}
+
+std::vector<double> footprint_shifts() {
+    std::vector<double> shifts;
+    for (int exponent = 0; exponent <= 7; ++exponent) {
+        for (double mantissa : {1.0, 2.0, 5.0}) {
+            shifts.push_back(mantissa * std::pow(10.0, exponent));
+        }
+    }
+    return shifts;
+}
+
+scene::Scene transformed(const scene::Scene& scene, double scale, double shift, double camera_distance) {
+    scene::Scene result = scene;
+    scene::Vec3 eye;
+    for (int axis = 0; axis < 3; ++axis) {
+        eye[axis] = scene.camera.look_at[axis] + camera_distance * (scene.camera.eye[axis] - scene.camera.look_at[axis]);
+    }
+    double half_angle = scene.camera.fov_deg * std::numbers::pi / 360;
+    result.camera.fov_deg = std::atan(std::tan(half_angle) / camera_distance) * 360 / std::numbers::pi;
+    result.camera.eye = moved(eye, scale, shift);
+    result.camera.look_at = moved(scene.camera.look_at, scale, shift);
+    for (scene::Light& light : result.lights) {
+        light.position = moved(light.position, scale, shift);
+    }
+    for (scene::Object& object : result.objects) {
+        transform_object(object, scale, shift);
+    }
+    return result;
+}
+
+scene::Scene rounded_to_float(const scene::Scene& scene) {
+    auto round_vec = [](scene::Vec3& v) {
+        for (double& c : v) c = static_cast<float>(c);
+    };
+    std::function<void(scene::Object&)> round_object = [&](scene::Object& object) {
+        std::visit(
+            [&](auto& shape) {
+                using S = std::decay_t<decltype(shape)>;
+                if constexpr (std::is_same_v<S, scene::Plane>) {
+                    round_vec(shape.normal);
+                    shape.offset = static_cast<float>(shape.offset);
+                } else if constexpr (std::is_same_v<S, scene::Sphere>) {
+                    round_vec(shape.center);
+                    shape.radius = static_cast<float>(shape.radius);
+                } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
+                    round_vec(shape.base);
+                    round_vec(shape.cap);
+                    shape.radius = static_cast<float>(shape.radius);
+                } else if constexpr (std::is_same_v<S, scene::Box>) {
+                    round_vec(shape.min);
+                    round_vec(shape.max);
+                } else {
+                    for (scene::Object& child : shape.children) round_object(child);
+                }
+            },
+            object.shape);
+    };
+    scene::Scene result = scene;
+    for (scene::Object& object : result.objects) {
+        round_object(object);
+    }
+    return result;
+}
+
+std::vector<const scene::Object*> leaf_objects(const scene::Scene& scene) {
+    std::vector<const scene::Object*> leaves;
+    for (const scene::Object& object : scene.objects) {
+        collect_leaves(object, leaves);
+    }
+    return leaves;
+}
+
+long double distance_to_surface(const scene::Object& primitive, const Vec3d& point) {
+    Point p{point[0], point[1], point[2]};
+    return std::visit(
+        [&](const auto& shape) -> Real {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<S, scene::Plane>) {
+                Point n = to_point(shape.normal);
+                return std::fabs(dot(n, p) / length(n) - shape.offset);
+            } else if constexpr (std::is_same_v<S, scene::Sphere>) {
+                return std::fabs(length(p - to_point(shape.center)) - shape.radius);
+            } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
+                Point base = to_point(shape.base);
+                Point along = to_point(shape.cap) - base;
+                Real height = length(along);
+                Point axis = (1 / height) * along;
+                Point f = p - base;
+                Real axial = dot(f, axis);
+                Real radial = length(f - axial * axis);
+                if (axial >= 0 && axial <= height && radial <= shape.radius) {
+                    return std::min({axial, height - axial, shape.radius - radial});
+                }
+                Real outside_axially = std::max({-axial, axial - height, Real(0)});
+                Real outside_radially = std::max(radial - shape.radius, Real(0));
+                return std::hypot(outside_axially, outside_radially);
+            } else if constexpr (std::is_same_v<S, scene::Box>) {
+                Real inside = std::numeric_limits<Real>::infinity();
+                Real outside_squared = 0;
+                for (int axis = 0; axis < 3; ++axis) {
+                    Real c = axis == 0 ? p.x : axis == 1 ? p.y : p.z;
+                    Real below = shape.min[axis] - c;
+                    Real above = c - shape.max[axis];
+                    inside = std::min(inside, std::max(below, above) <= 0 ? -std::max(below, above) : Real(0));
+                    Real out = std::max({below, above, Real(0)});
+                    outside_squared += out * out;
+                }
+                return outside_squared > 0 ? std::sqrt(outside_squared) : inside;
+            } else {
+                return std::numeric_limits<Real>::quiet_NaN();
+            }
+        },
+        primitive.shape);
+}
+
+Measurement measure(const scene::Scene& scene, TracerKind kind, int grid, double size) {
+    std::unique_ptr<AnyTracer> tracer = make_tracer(scene, kind);
+    std::vector<const scene::Object*> leaves = leaf_objects(scene);
+    scene::Scene held = kind == TracerKind::reference_double ? scene : rounded_to_float(scene);
+    std::vector<const scene::Object*> held_leaves = leaf_objects(held);
+    Measurement m;
+    for (int y = 0; y < grid; ++y) {
+        for (int x = 0; x < grid; ++x) {
+            RayTree tree;
+            tracer->trace_primary(x, y, grid, grid, tree);
+            ++m.rays;
+            const RayNode& primary = tree.nodes.front();
+            if (primary.hit) {
+                ++m.hits;
+                double error = static_cast<double>(distance_to_surface(*leaves[static_cast<std::size_t>(primary.leaf)], primary.point)) / size;
+                m.max_error = std::isfinite(error) ? std::max(m.max_error, error) : error;
+            }
+            for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+                const RayNode& node = tree.nodes[i];
+                if (!node.hit) {
+                    continue;
+                }
+                const scene::Object& primitive = *held_leaves[static_cast<std::size_t>(node.leaf)];
+                for (const LightVisibility& light : node.lights) {
+                    if (!light.faces_away) {
+                        ++m.secondary;
+                        FirstHit next = tracer->intersect(light.shadow_origin, light.shadow_direction);
+                        m.acne += is_self_hit(node, primitive, light.shadow_origin, light.shadow_direction, next);
+                    }
+                }
+                for (int child_index : tree.children(static_cast<int>(i))) {
+                    const RayNode& child = tree.nodes[static_cast<std::size_t>(child_index)];
+                    ++m.secondary;
+                    FirstHit next{child.hit, child.leaf, child.t, child.point, child.normal};
+                    m.acne += is_self_hit(node, primitive, child.origin, child.direction, next);
+                    bool into_solid = child.kind == RayKind::refracted && node.entering;
+                    m.leaks += into_solid && (!child.hit || child.entering);
+                }
+            }
+        }
+    }
+    return m;
+}
+
+std::vector<FootprintRatio> footprint_ratios(const scene::Scene& scene, TracerKind kind, int width) {
+    std::unique_ptr<AnyTracer> tracer = make_tracer(scene, kind);
+    std::vector<const scene::Object*> leaves = leaf_objects(scene);
+    int height = std::max(1, static_cast<int>(std::lround(static_cast<double>(width) * scene.height / scene.width)));
+    double pixel_per_distance = 2 * std::tan(scene.camera.fov_deg * std::numbers::pi / 360) / width;
+    std::map<std::string, double> worst;
+    for (const scene::Object* leaf : leaves) {
+        worst.emplace(primitive_name(*leaf), 0.0);
+    }
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            FirstHit hit = tracer->primary_hit(x, y, width, height);
+            if (!hit.hit) {
+                continue;
+            }
+            const scene::Object& leaf = *leaves[static_cast<std::size_t>(hit.leaf)];
+            double error = static_cast<double>(distance_to_surface(leaf, hit.point));
+            double& ratio = worst[primitive_name(leaf)];
+            double footprint_ratio = error / (hit.t * pixel_per_distance);
+            ratio = std::isfinite(footprint_ratio) ? std::max(ratio, footprint_ratio) : footprint_ratio;
+        }
+    }
+    std::vector<FootprintRatio> ratios;
+    for (const auto& [primitive, ratio] : worst) {
+        ratios.push_back({primitive, ratio});
+    }
+    return ratios;
+}
+
+}  // namespace twinray::numerics
