@@ -89,7 +89,7 @@ std::optional<Span<T>> span_of(const CylinderShape<T>& cylinder, const Ray<T>& r
     }
     auto side_crossing = [&](T t) {
         Vec3<T> radial = cylinder_detail::remove_axial(ray.at(t) - cylinder.base, cylinder.axis);
-        return Crossing<T>{t, normalize(radial), cylinder.leaf};
+        return Crossing<T>{t, radial_normal(radial, ray.direction), cylinder.leaf};
     };
     Crossing<T> enter = slab_near > side->first ? Crossing<T>{slab_near, near_cap_normal, cylinder.leaf}
                                                 : side_crossing(side->first);

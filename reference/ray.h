@@ -29,6 +29,14 @@ struct Hit {
     T spawn_offset{};  // how far off the surface secondary rays start (SurfacePoint::spawn_offset)
 };
 
+// The unit vector along `radial`, the normal of a curved surface at a hit. A primitive smaller than the
+// spacing of the numbers where it stands (a radius below one ulp of its centre) can leave `radial` exactly
+// zero: the normal is then undefined, and the ray's own reverse direction stands in for it, not a NaN.
+template <typename T>
+Vec3<T> radial_normal(Vec3<T> radial, Vec3<T> direction) {
+    return radial == Vec3<T>{} ? -direction : normalize(radial);
+}
+
 // A ray is traced only if every component is finite and its direction of unit length (within 1e-3):
 // anything else (NaN, infinity, a zero or unnormalised direction) has no defined hit and is a miss.
 template <typename T>

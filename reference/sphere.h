@@ -38,7 +38,7 @@ std::optional<Span<T>> span_of(const SphereShape<T>& sphere, const Ray<T>& ray) 
         std::swap(t0, t1);
     }
     auto crossing = [&](T t) {
-        return Crossing<T>{t, normalize(ray.at(t) - sphere.center), sphere.leaf};
+        return Crossing<T>{t, radial_normal(ray.at(t) - sphere.center, ray.direction), sphere.leaf};
     };
     return Span<T>{crossing(t0), crossing(t1)};
 }

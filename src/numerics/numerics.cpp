@@ -150,75 +150,17 @@ const char* primitive_name(const scene::Object& primitive) {
     return names[primitive.shape.index()];
 }
 
-// The first t > 0 at which the line origin + t·direction crosses the primitive's surface, in long double
-// (+∞ if none): what the tracer should have found for a ray leaving that primitive.
+// The first t > 0 at which the line crosses the primitive's surface (+∞ if none): what the tracer should
+// have found for a ray leaving that primitive.
 Real first_crossing(const scene::Object& primitive, const Vec3d& origin, const Vec3d& direction) {
-    Point o{origin[0], origin[1], origin[2]};
-    Point d{direction[0], direction[1], direction[2]};
-    Real first = std::numeric_limits<Real>::infinity();
-    auto consider = [&](Real t) {
-        if (t > 0 && t < first) {
-            first = t;
-        }
-    };
-    auto at = [&](Real t) { return Point{o.x + t * d.x, o.y + t * d.y, o.z + t * d.z}; };
-    std::visit(
-        [&](const auto& shape) {
-            using S = std::decay_t<decltype(shape)>;
-            if constexpr (std::is_same_v<S, scene::Plane>) {
-                Point n = to_point(shape.normal);
-                consider((shape.offset * length(n) - dot(n, o)) / dot(n, d));
-            } else if constexpr (std::is_same_v<S, scene::Sphere>) {
-                Point f = o - to_point(shape.center);
-                Real a = dot(d, d), b = dot(f, d), c = dot(f, f) - Real(shape.radius) * shape.radius;
-                Real discriminant = b * b - a * c;
-                if (discriminant >= 0) {
-                    Real q = -b - std::copysign(std::sqrt(discriminant), b);
-                    consider(q / a);
-                    consider(c / q);
-                }
-            } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
-                Point base = to_point(shape.base);
-                Point along = to_point(shape.cap) - base;
-                Real height = length(along);
-                Point axis = (1 / height) * along;
-                Point f = o - base;
-                Point f_perp = f - dot(f, axis) * axis;
-                Point d_perp = d - dot(d, axis) * axis;
-                Real a = dot(d_perp, d_perp), b = dot(f_perp, d_perp), c = dot(f_perp, f_perp) - Real(shape.radius) * shape.radius;
-                Real discriminant = b * b - a * c;
-                if (a > 0 && discriminant >= 0) {
-                    Real q = -b - std::copysign(std::sqrt(discriminant), b);
-                    for (Real t : {q / a, c / q}) {
-                        Real axial = dot(at(t) - base, axis);
-                        if (axial >= 0 && axial <= height) consider(t);
-                    }
-                }
-                Real axial_speed = dot(d, axis);
-                for (Real cap_height : {Real(0), height}) {
-                    Real t = (cap_height - dot(f, axis)) / axial_speed;
-                    Point g = at(t) - base;
-                    if (length(g - dot(g, axis) * axis) <= shape.radius) consider(t);
-                }
-            } else if constexpr (std::is_same_v<S, scene::Box>) {
-                for (int axis = 0; axis < 3; ++axis) {
-                    Real o_axis = axis == 0 ? o.x : axis == 1 ? o.y : o.z;
-                    Real d_axis = axis == 0 ? d.x : axis == 1 ? d.y : d.z;
-                    for (double face : {shape.min[axis], shape.max[axis]}) {
-                        Real t = (face - o_axis) / d_axis;
-                        Point p = at(t);
-                        bool on_face = true;
-                        for (int other = 0; other < 3; ++other) {
-                            Real c = other == 0 ? p.x : other == 1 ? p.y : p.z;
-                            on_face = on_face && (other == axis || (c >= shape.min[other] && c <= shape.max[other]));
-                        }
-                        if (on_face) consider(t);
-                    }
-                }
-            }
-        },
-        primitive.shape);
-    return first;
+    ExactSpan span = exact_span(primitive, origin, direction);
+    if (!span.valid) {
+        return std::numeric_limits<Real>::infinity();
+    }
+    if (span.enter > 0) {
+        return span.enter;
+    }
+    return span.exit > 0 ? span.exit : std::numeric_limits<Real>::infinity();
 }
 
 // A ray that left `node`'s surface re-hits it by error: the tracer finds that same primitive at less than
@@ -323,6 +265,127 @@ std::vector<const scene::Object*> leaf_objects(const scene::Scene& scene) {
         collect_leaves(object, leaves);
     }
     return leaves;
+}
+
+ExactSpan exact_span(const scene::Object& primitive, const Vec3d& origin, const Vec3d& direction) {
+    Point o{origin[0], origin[1], origin[2]};
+    Point d{direction[0], direction[1], direction[2]};
+    constexpr Real infinity = std::numeric_limits<Real>::infinity();
+    // Roots of a·t² + 2·b·t + c = 0 without cancellation.
+    auto roots = [](Real a, Real b, Real c, ExactSpan& span) {
+        Real discriminant = b * b - a * c;
+        if (!(discriminant >= 0) || a == 0) {
+            return;
+        }
+        Real q = -b - std::copysign(std::sqrt(discriminant), b);
+        Real t0 = q / a, t1 = q == 0 ? 0 : c / q;
+        span = {true, std::min(t0, t1), std::max(t0, t1)};
+    };
+    return std::visit(
+        [&](const auto& shape) -> ExactSpan {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<S, scene::Plane>) {
+                Point n = to_point(shape.normal);
+                Real approach = dot(n, d);
+                Real height = shape.offset * length(n) - dot(n, o);
+                if (approach == 0) {
+                    return height > 0 ? ExactSpan{true, -infinity, infinity} : ExactSpan{};
+                }
+                Real t = height / approach;
+                return approach > 0 ? ExactSpan{true, -infinity, t} : ExactSpan{true, t, infinity};
+            } else if constexpr (std::is_same_v<S, scene::Sphere>) {
+                Point f = o - to_point(shape.center);
+                ExactSpan span;
+                roots(dot(d, d), dot(f, d), dot(f, f) - Real(shape.radius) * shape.radius, span);
+                return span;
+            } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
+                Point base = to_point(shape.base);
+                Point along = to_point(shape.cap) - base;
+                Real height = length(along);
+                Point axis = (1 / height) * along;
+                Point f = o - base;
+                Point f_perp = f - dot(f, axis) * axis;
+                Point d_perp = d - dot(d, axis) * axis;
+                Real c = dot(f_perp, f_perp) - Real(shape.radius) * shape.radius;
+                ExactSpan side;
+                if (dot(d_perp, d_perp) == 0) {
+                    side = c < 0 ? ExactSpan{true, -infinity, infinity} : ExactSpan{};
+                } else {
+                    roots(dot(d_perp, d_perp), dot(f_perp, d_perp), c, side);
+                }
+                Real axial = dot(f, axis), speed = dot(d, axis);
+                if (speed == 0) {
+                    return axial > 0 && axial < height ? side : ExactSpan{};
+                }
+                Real t_base = -axial / speed, t_cap = (height - axial) / speed;
+                side.enter = std::max(side.enter, std::min(t_base, t_cap));
+                side.exit = std::min(side.exit, std::max(t_base, t_cap));
+                side.valid = side.valid && side.enter <= side.exit;
+                return side;
+            } else if constexpr (std::is_same_v<S, scene::Box>) {
+                ExactSpan span{true, -infinity, infinity};
+                for (int axis = 0; axis < 3; ++axis) {
+                    Real o_axis = axis == 0 ? o.x : axis == 1 ? o.y : o.z;
+                    Real d_axis = axis == 0 ? d.x : axis == 1 ? d.y : d.z;
+                    if (d_axis == 0) {
+                        span.valid = span.valid && o_axis > shape.min[axis] && o_axis < shape.max[axis];
+                        continue;
+                    }
+                    Real t_min = (shape.min[axis] - o_axis) / d_axis, t_max = (shape.max[axis] - o_axis) / d_axis;
+                    span.enter = std::max(span.enter, std::min(t_min, t_max));
+                    span.exit = std::min(span.exit, std::max(t_min, t_max));
+                }
+                span.valid = span.valid && span.enter <= span.exit;
+                return span;
+            } else {
+                return ExactSpan{};
+            }
+        },
+        primitive.shape);
+}
+
+Vec3d exact_normal(const scene::Object& primitive, const Vec3d& point) {
+    Point p{point[0], point[1], point[2]};
+    auto unit = [](Point v) {
+        Real l = length(v);
+        return Vec3d{static_cast<double>(v.x / l), static_cast<double>(v.y / l), static_cast<double>(v.z / l)};
+    };
+    return std::visit(
+        [&](const auto& shape) -> Vec3d {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<S, scene::Plane>) {
+                return unit(to_point(shape.normal));
+            } else if constexpr (std::is_same_v<S, scene::Sphere>) {
+                return unit(p - to_point(shape.center));
+            } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
+                Point base = to_point(shape.base);
+                Point along = to_point(shape.cap) - base;
+                Real height = length(along);
+                Point axis = (1 / height) * along;
+                Point f = p - base;
+                Real axial = dot(f, axis);
+                Point radial = f - axial * axis;
+                Real to_cap = std::min(std::fabs(axial), std::fabs(height - axial));
+                return to_cap < std::fabs(length(radial) - shape.radius) ? unit(axis) : unit(radial);
+            } else if constexpr (std::is_same_v<S, scene::Box>) {
+                int nearest_axis = 0;
+                Real nearest = std::numeric_limits<Real>::infinity();
+                for (int axis = 0; axis < 3; ++axis) {
+                    Real c = axis == 0 ? p.x : axis == 1 ? p.y : p.z;
+                    Real gap = std::min(std::fabs(c - shape.min[axis]), std::fabs(c - shape.max[axis]));
+                    if (gap < nearest) {
+                        nearest = gap;
+                        nearest_axis = axis;
+                    }
+                }
+                Vec3d n{0, 0, 0};
+                n[static_cast<std::size_t>(nearest_axis)] = 1;
+                return n;
+            } else {
+                return {0, 0, 0};
+            }
+        },
+        primitive.shape);
 }
 
 long double distance_to_surface(const scene::Object& primitive, const Vec3d& point) {

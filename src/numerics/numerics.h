@@ -43,6 +43,18 @@ std::vector<const scene::Object*> leaf_objects(const scene::Scene& scene);
 // computed in long double: the truth a hit point is measured against.
 long double distance_to_surface(const scene::Object& primitive, const Vec3d& point);
 
+// The closed interval of the line origin + t·direction inside `primitive` (enter ≤ exit, either may be
+// infinite for a plane), in long double: the truth grazing rays are judged against. `valid` is false
+// where the line misses. Same boundary rule as the tracers: a line within a face is not inside.
+struct ExactSpan {
+    bool valid = false;
+    long double enter = 0, exit = 0;
+};
+ExactSpan exact_span(const scene::Object& primitive, const Vec3d& origin, const Vec3d& direction);
+
+// The unit normal line of the primitive's surface nearest `point` (its sign is not meaningful).
+Vec3d exact_normal(const scene::Object& primitive, const Vec3d& point);
+
 // What one tracer does with a grid of primary rays and every ray they spawn.
 struct Measurement {
     int rays = 0;                   // primary rays

@@ -450,7 +450,10 @@ private:
         Vec4 outward{vfloat4::load(normal[0]), vfloat4::load(normal[1]), vfloat4::load(normal[2])};
         vbool4 normalize_lanes{_mm_castsi128_ps(vint4::load(curved).m)};
         if (any(normalize_lanes)) {
-            outward = select(normalize_lanes, normalize(outward), outward);
+            // As the reference's radial_normal: a radial vector of exactly zero (a primitive smaller than
+            // the ulp where it stands) has no direction; the ray's reverse stands in for it, not a NaN.
+            vbool4 degenerate = dot(outward, outward) == vfloat4(0.0f);
+            outward = select(normalize_lanes, normalize(select(degenerate, -direction, outward)), outward);
         }
         // Re-projected onto the surface (radius 0 leaves flat faces' anchors as they are).
         hit.point = Vec4{vfloat4::load(anchor[0]), vfloat4::load(anchor[1]), vfloat4::load(anchor[2])} +
