@@ -26,24 +26,6 @@ Point operator*(Real s, Point a) { return {s * a.x, s * a.y, s * a.z}; }
 Real dot(Point a, Point b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 Real length(Point a) { return std::sqrt(dot(a, a)); }
 
-// What measure() needs of a tracer, in double: its primary rays, its ray tree, and intersect() of a
-// ray taken from a tree (a shadow ray, which trees record but do not trace as a node).
-struct FirstHit {
-    bool hit = false;
-    int leaf = -1;
-    double t = 0;
-    Vec3d point{};
-    Vec3d normal{};
-};
-
-class AnyTracer {
-public:
-    virtual ~AnyTracer() = default;
-    virtual void trace_primary(int x, int y, int width, int height, RayTree& tree) const = 0;
-    virtual FirstHit primary_hit(int x, int y, int width, int height) const = 0;
-    virtual FirstHit intersect(const Vec3d& origin, const Vec3d& direction) const = 0;
-};
-
 template <typename V>
 Vec3d to_vec3d(const V& v) {
     return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
@@ -97,6 +79,8 @@ private:
     sse::Tracer tracer_;
 };
 
+}  // namespace
+
 std::unique_ptr<AnyTracer> make_tracer(const scene::Scene& scene, TracerKind kind) {
     switch (kind) {
         case TracerKind::reference_double: return std::make_unique<ReferenceTracer<double>>(scene);
@@ -105,6 +89,8 @@ std::unique_ptr<AnyTracer> make_tracer(const scene::Scene& scene, TracerKind kin
     }
     return nullptr;
 }
+
+namespace {
 
 scene::Vec3 moved(const scene::Vec3& p, double scale, double shift) {
     return {p[0] * scale + shift, p[1] * scale + shift, p[2] * scale + shift};
