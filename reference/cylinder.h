@@ -111,13 +111,19 @@ template <typename T>
 SurfacePoint<T> surface_point(const CylinderShape<T>& cylinder, Vec3<T> point, Vec3<T> normal) {
     Vec3<T> from_base = point - cylinder.base;
     T axial = dot(from_base, cylinder.axis);
-    Vec3<T> projected;
+    T own_rounding = rounding_bound<T>(5) * (cylinder.radius + cylinder.height) + rounding_bound<T>(2) * max_abs_component(point);
+    Vec3<T> projected = point;
     if (std::fabs(dot(normal, cylinder.axis)) > T(0.5)) {
         T cap_axial = std::fabs(axial - cylinder.height) < std::fabs(axial) ? cylinder.height : T(0);
-        projected = point - (axial - cap_axial) * cylinder.axis;
+        if (std::fabs(axial - cap_axial) > own_rounding) {
+            projected = point - (axial - cap_axial) * cylinder.axis;
+        }
     } else {
-        T radius = dot(normal, from_base) < T(0) ? -cylinder.radius : cylinder.radius;
-        projected = cylinder.base + axial * cylinder.axis + radius * normal;
+        T distance = dot(normal, from_base);  // ±(distance from the axis): the normal is radial
+        T radius = distance < T(0) ? -cylinder.radius : cylinder.radius;
+        if (std::fabs(std::fabs(distance) - cylinder.radius) > own_rounding) {
+            projected = cylinder.base + axial * cylinder.axis + radius * normal;
+        }
     }
     T offset = rounding_bound<T>(12) * (cylinder.radius + cylinder.height) + rounding_bound<T>(4) * max_abs_component(projected);
     return {projected, offset};

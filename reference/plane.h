@@ -41,7 +41,9 @@ std::optional<Span<T>> span_of(const PlaneShape<T>& plane, const Ray<T>& ray) {
 // origin's rounding adds γ(2)·|p'|∞.
 template <typename T>
 SurfacePoint<T> surface_point(const PlaneShape<T>& plane, Vec3<T> point, Vec3<T> /*normal: the plane's own*/) {
-    Vec3<T> projected = point + (plane.offset - dot(plane.normal, point)) * plane.normal;
+    T height = plane.offset - dot(plane.normal, point);
+    T own_rounding = rounding_bound<T>(2) * max_abs_component(point) + rounding_bound<T>(1) * std::fabs(plane.offset);
+    Vec3<T> projected = std::fabs(height) > own_rounding ? point + height * plane.normal : point;
     T offset = rounding_bound<T>(15) * max_abs_component(projected) + rounding_bound<T>(2) * std::fabs(plane.offset);
     return {projected, offset};
 }

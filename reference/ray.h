@@ -61,7 +61,9 @@ constexpr T rounding_bound(int n) {
 // distance from the true surface, plus the bound on the rounding with which the next ray's intersection
 // formula decides on which side of the surface its origin lies, plus one rounding of the origin itself.
 // Every term scales with the primitive's size and its distance from the origin, never with t: after
-// re-projection, how far the ray travelled no longer matters (docs/numerics.md).
+// re-projection, how far the ray travelled no longer matters (docs/numerics.md). A point is re-projected
+// only where it is measurably off the surface, by more than the projection would round itself: far
+// from the origin the projection's own rounding (u·|p|) can exceed that of the ray's o + t·d.
 template <typename T>
 struct SurfacePoint {
     Vec3<T> point;

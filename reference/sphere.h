@@ -49,8 +49,10 @@ std::optional<Span<T>> span_of(const SphereShape<T>& sphere, const Ray<T>& ray) 
 // settles it. The origin's own rounding adds γ(2)·|p'|∞.
 template <typename T>
 SurfacePoint<T> surface_point(const SphereShape<T>& sphere, Vec3<T> point, Vec3<T> normal) {
-    T radius = dot(normal, point - sphere.center) < T(0) ? -sphere.radius : sphere.radius;
-    Vec3<T> projected = sphere.center + radius * normal;
+    T distance = dot(normal, point - sphere.center);  // ±|p − c|: the normal lies along p − c
+    T radius = distance < T(0) ? -sphere.radius : sphere.radius;
+    T own_rounding = rounding_bound<T>(5) * sphere.radius + rounding_bound<T>(2) * max_abs_component(point);
+    Vec3<T> projected = std::fabs(std::fabs(distance) - sphere.radius) > own_rounding ? sphere.center + radius * normal : point;
     T offset = rounding_bound<T>(9) * sphere.radius + rounding_bound<T>(4) * max_abs_component(projected);
     return {projected, offset};
 }

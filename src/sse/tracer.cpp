@@ -191,13 +191,15 @@ constexpr float rounding_bound(int n) {
 }
 
 // Where a hit point is re-projected onto its primitive: p' = anchor + radius·n̂ with n̂ the unit outward
-// normal as outward_direction turns it (radius 0 on flat faces, where the anchor is p' itself), and the
-// offset its secondary rays start at: size_bound + point_factor·|p'|∞. The same formulas and bounds as
-// the reference's surface_point (reference/sphere.h, plane.h, cylinder.h, box.h; the derivations are
-// there), so both tracers leave surfaces alike.
+// normal as outward_direction turns it (radius 0 on flat faces, where the anchor is p' itself), only
+// where p is farther than `own_rounding` from p' (measurably off the surface); and the offset its
+// secondary rays start at: size_bound + point_factor·|p'|∞. The same formulas and bounds as the
+// reference's surface_point (reference/sphere.h, plane.h, cylinder.h, box.h; the derivations are there),
+// so both tracers leave surfaces alike.
 struct SurfaceAnchor {
     Vec3 anchor;
     float radius = 0;
+    float own_rounding = 0;
     float size_bound = 0;
     float point_factor = 0;
 };
@@ -208,24 +210,28 @@ SurfaceAnchor surface_anchor(const LeafInfo& leaf, std::int32_t tag, Vec3 point)
     switch (leaf.kind) {
         case LeafKind::plane: {
             Vec3 projected = point + (leaf.offset - dot(leaf.direction, point)) * leaf.direction;
-            return {projected, 0.0f, rounding_bound(2) * std::fabs(leaf.offset), rounding_bound(15)};
+            float own_rounding = rounding_bound(2) * max_abs_component(point) + rounding_bound(1) * std::fabs(leaf.offset);
+            return {projected, 0.0f, own_rounding, rounding_bound(2) * std::fabs(leaf.offset), rounding_bound(15)};
         }
-        case LeafKind::sphere:
-            return {leaf.position, turned * leaf.radius, rounding_bound(9) * leaf.radius, rounding_bound(4)};
+        case LeafKind::sphere: {
+            float own_rounding = rounding_bound(5) * leaf.radius + rounding_bound(2) * max_abs_component(point);
+            return {leaf.position, turned * leaf.radius, own_rounding, rounding_bound(9) * leaf.radius, rounding_bound(4)};
+        }
         case LeafKind::box: {
             int axis = face >> 1;
             float coordinates[3] = {point.x, point.y, point.z};
             coordinates[axis] = (face & 1) ? leaf.far_corner[axis] : leaf.position[axis];
-            return {{coordinates[0], coordinates[1], coordinates[2]}, 0.0f, 0.0f, rounding_bound(3)};
+            return {{coordinates[0], coordinates[1], coordinates[2]}, 0.0f, 0.0f, 0.0f, rounding_bound(3)};
         }
         case LeafKind::cylinder: {
             float axial = dot(point - leaf.position, leaf.direction);
             float size_bound = rounding_bound(12) * (leaf.radius + leaf.height);
+            float own_rounding = rounding_bound(5) * (leaf.radius + leaf.height) + rounding_bound(2) * max_abs_component(point);
             if (face == cylinder_side) {
-                return {leaf.position + axial * leaf.direction, turned * leaf.radius, size_bound, rounding_bound(4)};
+                return {leaf.position + axial * leaf.direction, turned * leaf.radius, own_rounding, size_bound, rounding_bound(4)};
             }
             float cap_axial = face == cylinder_top_cap ? leaf.height : 0.0f;
-            return {point - (axial - cap_axial) * leaf.direction, 0.0f, size_bound, rounding_bound(4)};
+            return {point - (axial - cap_axial) * leaf.direction, 0.0f, own_rounding, size_bound, rounding_bound(4)};
         }
     }
     return {point};
@@ -418,7 +424,7 @@ private:
         hit.point = Vec4{rays.origin[0], rays.origin[1], rays.origin[2]} + hit.t * direction;
         hit.leaf = nearest.leaf;
         hit.entering = {_mm_castsi128_ps(_mm_cmpeq_epi32((nearest.tag & vint4(tag_entering)).m, vint4(tag_entering).m))};
-        alignas(16) float point[3][4], normal[3][4], anchor[3][4], radius[4], size_bound[4], point_factor[4];
+        alignas(16) float point[3][4], normal[3][4], anchor[3][4], radius[4], own_rounding[4], size_bound[4], point_factor[4];
         alignas(16) std::int32_t leaf[4], tag[4], curved[4];
         hit.point.x.store(point[0]);
         hit.point.y.store(point[1]);
@@ -444,6 +450,7 @@ private:
             anchor[1][lane] = surface.anchor.y;
             anchor[2][lane] = surface.anchor.z;
             radius[lane] = surface.radius;
+            own_rounding[lane] = surface.own_rounding;
             size_bound[lane] = surface.size_bound;
             point_factor[lane] = surface.point_factor;
         }
@@ -455,9 +462,12 @@ private:
             vbool4 degenerate = dot(outward, outward) == vfloat4(0.0f);
             outward = select(normalize_lanes, normalize(select(degenerate, -direction, outward)), outward);
         }
-        // Re-projected onto the surface (radius 0 leaves flat faces' anchors as they are).
-        hit.point = Vec4{vfloat4::load(anchor[0]), vfloat4::load(anchor[1]), vfloat4::load(anchor[2])} +
-                    vfloat4::load(radius) * outward;
+        // Re-projected onto the surface where measurably off it: p is |n̂·(p − anchor)| from the anchor
+        // along n̂ and p' is |radius| (0 on flat faces, whose anchor is p' itself).
+        Vec4 anchors{vfloat4::load(anchor[0]), vfloat4::load(anchor[1]), vfloat4::load(anchor[2])};
+        vfloat4 radii = vfloat4::load(radius);
+        vfloat4 off_surface = abs(abs(dot(outward, hit.point - anchors)) - abs(radii));
+        hit.point = select(off_surface > vfloat4::load(own_rounding), anchors + radii * outward, hit.point);
         vfloat4 largest = max(abs(hit.point.x), max(abs(hit.point.y), abs(hit.point.z)));
         hit.spawn_offset = vfloat4::load(size_bound) + vfloat4::load(point_factor) * largest;
         hit.normal = select(dot(outward, direction) > vfloat4(0.0f), -outward, outward);
