@@ -24,7 +24,7 @@ struct NumericsArguments {
     std::string csv_path;
     int grid = 24;
     bool footprint = false;
-    int footprint_width = 240;
+    int footprint_width = 0;  // 0: the scene's own
 };
 
 std::vector<numerics::TracerKind> available_tracers() {
@@ -90,8 +90,10 @@ int run_numerics(const NumericsArguments& arguments) {
             return exit_invalid_scene;
         }
     }
-    std::string table = arguments.footprint ? footprint_table(scenes.front().second, arguments.footprint_width)
-                                            : scale_table(scenes, arguments.grid);
+    const scene::Scene& first = scenes.front().second;
+    std::string table = arguments.footprint
+                            ? footprint_table(first, arguments.footprint_width > 0 ? arguments.footprint_width : first.width)
+                            : scale_table(scenes, arguments.grid);
     if (arguments.csv_path.empty()) {
         std::cout << table;
         return exit_success;
@@ -121,8 +123,8 @@ void add_numerics_command(CLI::App& app, std::function<int()>& run) {
     command->add_option("--csv", arguments->csv_path, "Write the CSV here (atomically) instead of stdout");
     command->add_option("--grid", arguments->grid, "Primary rays per side of the grid")->check(CLI::Range(1, 1024))->capture_default_str();
     command->add_flag("--footprint", arguments->footprint, "Error against pixel footprint, scene moved away from the origin");
-    command->add_option("--footprint-width", arguments->footprint_width, "Image width for --footprint")
-        ->check(CLI::Range(1, 4096))->capture_default_str();
+    command->add_option("--footprint-width", arguments->footprint_width, "Image width for --footprint (default: the scene's)")
+        ->check(CLI::Range(1, 4096));
     command->callback([arguments, &run] { run = [arguments] { return run_numerics(*arguments); }; });
 }
 
