@@ -26,6 +26,18 @@ Point operator*(Real s, Point a) { return {s * a.x, s * a.y, s * a.z}; }
 Real dot(Point a, Point b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 Real length(Point a) { return std::sqrt(dot(a, a)); }
 
+// A cylinder's base, unit axis and height, in long double.
+struct CylinderFrame {
+    Point base, axis;
+    Real height;
+};
+CylinderFrame frame_of(const scene::Cylinder& cylinder) {
+    Point base = to_point(cylinder.base);
+    Point along = to_point(cylinder.cap) - base;
+    Real height = length(along);
+    return {base, (1 / height) * along, height};
+}
+
 template <typename V>
 Vec3d to_vec3d(const V& v) {
     return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
@@ -39,45 +51,30 @@ FirstHit first_hit(const std::optional<H>& hit) {
     return {true, hit->leaf, static_cast<double>(hit->t), to_vec3d(hit->point), to_vec3d(hit->normal)};
 }
 
+// Either tracer behind AnyTracer: `Scalar` is its precision, `Ray` and `Vec` its own types.
+template <typename Tracer, typename Ray, typename Vec, typename Scalar>
+class TracerAdapter final : public AnyTracer {
+public:
+    explicit TracerAdapter(const scene::Scene& scene) : tracer_(scene) {}
+    void trace_primary(int x, int y, int width, int height, RayTree& tree) const override {
+        tracer_.trace(tracer_.primary_ray(x, y, width, height), 1, nullptr, &tree);
+    }
+    FirstHit primary_hit(int x, int y, int width, int height) const override {
+        return first_hit(tracer_.intersect(tracer_.primary_ray(x, y, width, height)));
+    }
+    FirstHit intersect(const Vec3d& o, const Vec3d& d) const override {
+        Vec origin{static_cast<Scalar>(o[0]), static_cast<Scalar>(o[1]), static_cast<Scalar>(o[2])};
+        Vec direction{static_cast<Scalar>(d[0]), static_cast<Scalar>(d[1]), static_cast<Scalar>(d[2])};
+        return first_hit(tracer_.intersect(Ray{origin, direction}));
+    }
+
+private:
+    Tracer tracer_;
+};
+
 template <typename T>
-class ReferenceTracer final : public AnyTracer {
-public:
-    explicit ReferenceTracer(const scene::Scene& scene) : tracer_(scene) {}
-    void trace_primary(int x, int y, int width, int height, RayTree& tree) const override {
-        tracer_.trace(tracer_.primary_ray(x, y, width, height), 1, nullptr, &tree);
-    }
-    FirstHit primary_hit(int x, int y, int width, int height) const override {
-        return first_hit(tracer_.intersect(tracer_.primary_ray(x, y, width, height)));
-    }
-    FirstHit intersect(const Vec3d& o, const Vec3d& d) const override {
-        using V = reference::Vec3<T>;
-        V origin{static_cast<T>(o[0]), static_cast<T>(o[1]), static_cast<T>(o[2])};
-        V direction{static_cast<T>(d[0]), static_cast<T>(d[1]), static_cast<T>(d[2])};
-        return first_hit(tracer_.intersect({origin, direction}));
-    }
-
-private:
-    reference::Tracer<T> tracer_;
-};
-
-class SseTracer final : public AnyTracer {
-public:
-    explicit SseTracer(const scene::Scene& scene) : tracer_(scene) {}
-    void trace_primary(int x, int y, int width, int height, RayTree& tree) const override {
-        tracer_.trace(tracer_.primary_ray(x, y, width, height), 1, nullptr, &tree);
-    }
-    FirstHit primary_hit(int x, int y, int width, int height) const override {
-        return first_hit(tracer_.intersect(tracer_.primary_ray(x, y, width, height)));
-    }
-    FirstHit intersect(const Vec3d& o, const Vec3d& d) const override {
-        sse::Vec3 origin{static_cast<float>(o[0]), static_cast<float>(o[1]), static_cast<float>(o[2])};
-        sse::Vec3 direction{static_cast<float>(d[0]), static_cast<float>(d[1]), static_cast<float>(d[2])};
-        return first_hit(tracer_.intersect({origin, direction}));
-    }
-
-private:
-    sse::Tracer tracer_;
-};
+using ReferenceTracer = TracerAdapter<reference::Tracer<T>, reference::Ray<T>, reference::Vec3<T>, T>;
+using SseTracer = TracerAdapter<sse::Tracer, sse::Ray, sse::Vec3, float>;
 
 }  // namespace
 
@@ -285,10 +282,7 @@ ExactSpan exact_span(const scene::Object& primitive, const Vec3d& origin, const 
                 roots(dot(d, d), dot(f, d), dot(f, f) - Real(shape.radius) * shape.radius, span);
                 return span;
             } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
-                Point base = to_point(shape.base);
-                Point along = to_point(shape.cap) - base;
-                Real height = length(along);
-                Point axis = (1 / height) * along;
+                auto [base, axis, height] = frame_of(shape);
                 Point f = o - base;
                 Point f_perp = f - dot(f, axis) * axis;
                 Point d_perp = d - dot(d, axis) * axis;
@@ -344,10 +338,7 @@ Vec3d exact_normal(const scene::Object& primitive, const Vec3d& point) {
             } else if constexpr (std::is_same_v<S, scene::Sphere>) {
                 return unit(p - to_point(shape.center));
             } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
-                Point base = to_point(shape.base);
-                Point along = to_point(shape.cap) - base;
-                Real height = length(along);
-                Point axis = (1 / height) * along;
+                auto [base, axis, height] = frame_of(shape);
                 Point f = p - base;
                 Real axial = dot(f, axis);
                 Point radial = f - axial * axis;
@@ -385,10 +376,7 @@ long double distance_to_surface(const scene::Object& primitive, const Vec3d& poi
             } else if constexpr (std::is_same_v<S, scene::Sphere>) {
                 return std::fabs(length(p - to_point(shape.center)) - shape.radius);
             } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
-                Point base = to_point(shape.base);
-                Point along = to_point(shape.cap) - base;
-                Real height = length(along);
-                Point axis = (1 / height) * along;
+                auto [base, axis, height] = frame_of(shape);
                 Point f = p - base;
                 Real axial = dot(f, axis);
                 Real radial = length(f - axial * axis);
