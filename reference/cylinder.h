@@ -89,7 +89,7 @@ std::optional<Span<T>> span_of(const CylinderShape<T>& cylinder, const Ray<T>& r
     }
     auto side_crossing = [&](T t) {
         Vec3<T> radial = cylinder_detail::remove_axial(ray.at(t) - cylinder.base, cylinder.axis);
-        return Crossing<T>{t, normalize(radial), cylinder.leaf};
+        return Crossing<T>{t, radial_normal(radial, ray.direction), cylinder.leaf};
     };
     Crossing<T> enter = slab_near > side->first ? Crossing<T>{slab_near, near_cap_normal, cylinder.leaf}
                                                 : side_crossing(side->first);
@@ -99,6 +99,34 @@ std::optional<Span<T>> span_of(const CylinderShape<T>& cylinder, const Ray<T>& r
         return std::nullopt;
     }
     return Span<T>{enter, exit};
+}
+
+// On a cap (the normal along the axis; the nearer cap), p' = p − (h − h_cap)·axis with h = (p − base)·axis;
+// on the side, p' = base + h·axis + r·n̂ with n̂ the unit radial normal turned towards p (a CSG complement
+// turns a crossing's normal). Either way p' is within γ(5)·(r + height) of the surface plus the rounding of
+// the sums (γ(2)·|p'|∞): h is rounded within γ(4)·|p − base| ≤ γ(4)·(r + height). The next ray decides its
+// side by |f⊥|² − r² (f⊥ rounded within γ(5)·(r + height)) or by the cap's h − h_cap (within γ(4)·(r +
+// height)): γ(7)·(r + height) more settles it, and the origin's own rounding adds γ(2)·|p'|∞.
+template <typename T>
+SurfacePoint<T> surface_point(const CylinderShape<T>& cylinder, Vec3<T> point, Vec3<T> normal) {
+    Vec3<T> from_base = point - cylinder.base;
+    T axial = dot(from_base, cylinder.axis);
+    T own_rounding = rounding_bound<T>(5) * (cylinder.radius + cylinder.height) + rounding_bound<T>(2) * max_abs_component(point);
+    Vec3<T> projected = point;
+    if (std::fabs(dot(normal, cylinder.axis)) > T(0.5)) {
+        T cap_axial = std::fabs(axial - cylinder.height) < std::fabs(axial) ? cylinder.height : T(0);
+        if (std::fabs(axial - cap_axial) > own_rounding) {
+            projected = point - (axial - cap_axial) * cylinder.axis;
+        }
+    } else {
+        T distance = dot(normal, from_base);  // ±(distance from the axis): the normal is radial
+        T radius = distance < T(0) ? -cylinder.radius : cylinder.radius;
+        if (std::fabs(std::fabs(distance) - cylinder.radius) > own_rounding) {
+            projected = cylinder.base + axial * cylinder.axis + radius * normal;
+        }
+    }
+    T offset = rounding_bound<T>(12) * (cylinder.radius + cylinder.height) + rounding_bound<T>(4) * max_abs_component(projected);
+    return {projected, offset};
 }
 
 }  // namespace twinray::reference

@@ -4,6 +4,7 @@
 
 #include "reference/ray.h"
 
+#include <cmath>
 #include <optional>
 
 namespace twinray::reference {
@@ -32,6 +33,20 @@ std::optional<Span<T>> span_of(const PlaneShape<T>& plane, const Ray<T>& ray) {
         return Span<T>{infinitely_far(T(-1)), surface};
     }
     return Span<T>{surface, infinitely_far(T(1))};
+}
+
+// p' = p + (d − n·p)·n: n·p is rounded within γ(3)·|n|₁·|p|∞ ≤ γ(6)·|p|∞ (|n|₁ ≤ √3), the sum once more
+// per component, so p' is within γ(7)·|p'|∞ + γ(1)·|d| of the plane wherever p was along the ray. The
+// next ray decides its side by the sign of d − n·o, rounded within the same γ(6)·|o|∞ + γ(1)·|d|; its
+// origin's rounding adds γ(2)·|p'|∞. Projected only where d − n·p exceeds two roundings of p
+// (γ(2)·|p|∞ + γ(1)·|d|): a point that close is already within the projection's own error of the plane.
+template <typename T>
+SurfacePoint<T> surface_point(const PlaneShape<T>& plane, Vec3<T> point, Vec3<T> /*normal: the plane's own*/) {
+    T height = plane.offset - dot(plane.normal, point);
+    T own_rounding = rounding_bound<T>(2) * max_abs_component(point) + rounding_bound<T>(1) * std::fabs(plane.offset);
+    Vec3<T> projected = std::fabs(height) > own_rounding ? point + height * plane.normal : point;
+    T offset = rounding_bound<T>(15) * max_abs_component(projected) + rounding_bound<T>(2) * std::fabs(plane.offset);
+    return {projected, offset};
 }
 
 }  // namespace twinray::reference

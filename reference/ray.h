@@ -3,6 +3,7 @@
 
 #include "reference/vec3.h"
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -21,10 +22,52 @@ struct Ray {
 template <typename T>
 struct Hit {
     T t{};
-    Vec3<T> point;
+    Vec3<T> point;   // re-projected onto the primitive's surface (surface_point in its header)
     Vec3<T> normal;  // unit, facing the ray: dot(normal, direction) <= 0
     int leaf = -1;   // the primitive whose surface was hit (Scene::leaf_paths)
     bool entering = false;  // the ray enters the (composite) solid here
+    T spawn_offset{};  // how far off the surface secondary rays start (SurfacePoint::spawn_offset)
+};
+
+// The unit vector along `radial`, the normal of a curved surface at a hit. A primitive smaller than the
+// spacing of the numbers where it stands (a radius below one ulp of its centre) can leave `radial` exactly
+// zero: the normal is then undefined, and the ray's own reverse direction stands in for it, not a NaN.
+template <typename T>
+Vec3<T> radial_normal(Vec3<T> radial, Vec3<T> direction) {
+    return radial == Vec3<T>{} ? -direction : normalize(radial);
+}
+
+// A ray is traced only if every component is finite and its direction of unit length (within 1e-3):
+// anything else (NaN, infinity, a zero or unnormalised direction) has no defined hit and is a miss.
+template <typename T>
+bool is_traceable(const Ray<T>& ray) {
+    const Vec3<T>& o = ray.origin;
+    const Vec3<T>& d = ray.direction;
+    bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) && std::isfinite(d.x) &&
+                  std::isfinite(d.y) && std::isfinite(d.z);
+    return finite && std::fabs(dot(d, d) - T(1)) <= T(1e-3);
+}
+
+// γ(n) = n·u/(1 − n·u), u = ε/2 the unit roundoff: a bound on the relative error of n rounded operations
+// (Higham, "Accuracy and Stability of Numerical Algorithms" §3.1; pbrt-v4 uses the same).
+template <typename T>
+constexpr T rounding_bound(int n) {
+    T u = std::numeric_limits<T>::epsilon() / T(2);
+    return T(n) * u / (T(1) - T(n) * u);
+}
+
+// A hit point moved onto the primitive's surface, and the distance off the surface a secondary ray must
+// start at so that it cannot find that surface again by rounding: the bound on the re-projected point's
+// distance from the true surface, plus the bound on the rounding with which the next ray's intersection
+// formula decides on which side of the surface its origin lies, plus one rounding of the origin itself.
+// Every term scales with the primitive's size and its distance from the origin, never with t: after
+// re-projection, how far the ray travelled no longer matters (docs/numerics.md). A point is re-projected
+// only where it is measurably off the surface, by more than the projection would round itself: far
+// from the origin the projection's own rounding (u·|p|) can exceed that of the ray's o + t·d.
+template <typename T>
+struct SurfacePoint {
+    Vec3<T> point;
+    T spawn_offset{};
 };
 
 // Where a ray's line crosses a solid's surface. `leaf` is -1 for the ends of a half-infinite span

@@ -63,6 +63,21 @@ SpanList<T> spans_of(const Shape<T>& shape, const Ray<T>& ray) {
 }
 
 template <typename T>
+void collect_leaf_shapes(const Shape<T>& shape, std::vector<PrimitiveShape<T>>& leaves) {
+    std::visit(
+        [&](const auto& s) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(s)>, CsgNode<T>>) {
+                for (const Shape<T>& child : s.children) {
+                    collect_leaf_shapes(child, leaves);
+                }
+            } else {
+                leaves[static_cast<std::size_t>(s.leaf)] = s;
+            }
+        },
+        shape);
+}
+
+template <typename T>
 MaterialT<T> convert(const scene::Material& m) {
     auto s = [](double v) { return static_cast<T>(v); };
     return {Color<T>(m.color), s(m.ambient),    s(m.diffuse),      s(m.phong),
@@ -175,14 +190,25 @@ Tracer<T>::Tracer(const scene::Scene& scene)
     for (const scene::Light& light : scene.lights) {
         lights_.push_back({Vec3<T>(light.position), Color<T>(light.color)});
     }
+    leaf_shapes_.resize(scene.leaf_paths.size());
     for (const scene::Object& object : scene.objects) {
         objects_.push_back(compile<T>(object));
+        collect_leaf_shapes(objects_.back(), leaf_shapes_);
     }
 }
 
-// A span list's first crossing after t = 0. Infinite ends (half-spaces) are not surfaces.
 template <typename T>
 std::optional<Hit<T>> Tracer<T>::intersect(const Ray<T>& ray) const {
+    if (!is_traceable(ray)) {
+        return std::nullopt;
+    }
+    return first_hit(ray);
+}
+
+// A span list's first crossing after t = 0. Infinite ends (half-spaces) are not surfaces. The nearest hit's
+// point is re-projected onto its primitive, which also gives the offset its secondary rays start at.
+template <typename T>
+std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
     std::optional<Hit<T>> nearest;
     for (const Shape<T>& object : objects_) {
         for (const Span<T>& span : spans_of(object, ray)) {
@@ -199,6 +225,13 @@ std::optional<Hit<T>> Tracer<T>::intersect(const Ray<T>& ray) const {
             }
             break;
         }
+    }
+    if (nearest) {
+        SurfacePoint<T> on_surface = std::visit(
+            [&](const auto& shape) { return surface_point(shape, nearest->point, nearest->normal); },
+            leaf_shapes_[static_cast<std::size_t>(nearest->leaf)]);
+        nearest->point = on_surface.point;
+        nearest->spawn_offset = on_surface.spawn_offset;
     }
     return nearest;
 }
@@ -224,20 +257,21 @@ T Tracer<T>::shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const 
     return transmittance;
 }
 
-// Secondary rays start off the surface, on the side they leave to, by a distance that bounds the
-// rounding error of the hit point: p = o + t·d is off the true surface by a few ε·(|o| + t) (ε the
-// scalar type's machine epsilon); 64·ε·(|p|∞ + t) covers that with an order of magnitude to spare
-// (|o| ≤ |p| + t), scales with the scene, and stays far below any feature the scene can resolve.
-// With the origin off the surface, the new ray accepts any hit with t > 0.
+// Secondary rays start off the surface, on the side they leave to, by the hit's spawn_offset: the bound on
+// the re-projected point's rounding error plus that of the next ray's decision on which side of the
+// surface it starts (SurfacePoint, ray.h). With the origin off the surface, the new ray accepts any hit
+// with t > 0.
 template <typename T>
 Vec3<T> Tracer<T>::spawn_origin(const Hit<T>& hit, Vec3<T> direction) {
-    T offset = T(64) * std::numeric_limits<T>::epsilon() * (max_abs_component(hit.point) + hit.t);
     T side = dot(direction, hit.normal) >= T(0) ? T(1) : T(-1);
-    return hit.point + (side * offset) * hit.normal;
+    return hit.point + (side * hit.spawn_offset) * hit.normal;
 }
 
 template <typename T>
 Color<T> Tracer<T>::trace(const Ray<T>& ray, int depth, std::uint64_t* rays, RayTree* tree) const {
+    if (!is_traceable(ray)) {
+        return background_;
+    }
     std::uint64_t count = 0;
     Color<T> color = trace_ray(ray, depth, count, tree, RayKind::primary, -1);
     if (rays != nullptr) {
@@ -250,7 +284,7 @@ template <typename T>
 Color<T> Tracer<T>::trace_ray(const Ray<T>& ray, int depth, std::uint64_t& rays, RayTree* tree, RayKind kind,
                               int parent) const {
     ++rays;
-    std::optional<Hit<T>> hit = intersect(ray);
+    std::optional<Hit<T>> hit = first_hit(ray);
     int node = record_ray(tree, kind, depth, parent, ray, hit);
     Color<T> color = hit ? shade(ray, *hit, depth, rays, tree, node) : background_;
     record_total_color(tree, node, color);

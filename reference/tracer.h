@@ -26,6 +26,9 @@ template <typename T>
 using Shape = std::variant<PlaneShape<T>, SphereShape<T>, CylinderShape<T>, BoxShape<T>, CsgNode<T>>;
 
 template <typename T>
+using PrimitiveShape = std::variant<PlaneShape<T>, SphereShape<T>, CylinderShape<T>, BoxShape<T>>;
+
+template <typename T>
 struct CsgNode {
     scene::CsgOp op = scene::CsgOp::union_;
     std::vector<Shape<T>> children;
@@ -55,13 +58,14 @@ class Tracer {
 public:
     explicit Tracer(const scene::Scene& scene);
 
-    // The first surface along the ray with t > 0.
+    // The first surface along the ray with t > 0; a miss for a ray that is not is_traceable (ray.h).
     std::optional<Hit<T>> intersect(const Ray<T>& ray) const;
 
     // The colour the ray sees; `depth` is 1 for primary rays. `rays`, if given, is incremented for
     // every ray this traces (this one, shadow rays and secondary rays). `tree`, if given, receives every
     // ray traced, what it hit, each light's visibility and its colours (twinray probe); the colour is
-    // the same with or without it.
+    // the same with or without it. A ray that is not is_traceable (ray.h) sees the background, and nothing
+    // is traced or recorded.
     Color<T> trace(const Ray<T>& ray, int depth, std::uint64_t* rays = nullptr, RayTree* tree = nullptr) const;
 
     // The ray through the centre of pixel (x, y) of a width × height image, (0, 0) top-left.
@@ -71,12 +75,14 @@ public:
     // the transmission of every surface crossed strictly before the light.
     T shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const;
 
-    // Where a secondary ray leaving `hit` towards `direction` starts (see spawn_offset in tracer.cpp).
+    // Where a secondary ray leaving `hit` towards `direction` starts: hit.spawn_offset off the surface.
     static Vec3<T> spawn_origin(const Hit<T>& hit, Vec3<T> direction);
 
     const MaterialT<T>& material_of(int leaf) const { return materials_[leaf_materials_[leaf]]; }
 
 private:
+    // intersect() without the check of the ray: every ray the tracer makes itself is traceable.
+    std::optional<Hit<T>> first_hit(const Ray<T>& ray) const;
     // trace() of one ray of the tree, recorded (if `tree`) as a `kind` child of node `parent`.
     Color<T> trace_ray(const Ray<T>& ray, int depth, std::uint64_t& rays, RayTree* tree, RayKind kind, int parent) const;
     // `node`: this hit's ray in `tree`, if recording.
@@ -89,6 +95,7 @@ private:
     std::vector<int> leaf_materials_;
     std::vector<LightT<T>> lights_;
     std::vector<Shape<T>> objects_;
+    std::vector<PrimitiveShape<T>> leaf_shapes_;  // by leaf index: where hit points are re-projected
 };
 
 template <typename T>

@@ -4,6 +4,7 @@
 #include "cli/diff_command.h"
 #include "cli/exit_codes.h"
 #include "cli/golden_command.h"
+#include "cli/numerics_command.h"
 #include "cli/pov_command.h"
 #include "cli/probe_command.h"
 #include "cli/render_command.h"
@@ -29,6 +30,7 @@ int main(int argc, char** argv) {
     add_diff_command(app, run);
     add_golden_command(app, run);
     add_probe_command(app, run);
+    add_numerics_command(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -153,15 +153,22 @@ LeafInfo leaf_info(const scene::Object& object) {
             if constexpr (std::is_same_v<S, scene::Plane>) {
                 info.kind = LeafKind::plane;
                 info.direction = Vec3(shape.normal);
+                info.offset = static_cast<float>(shape.offset);
             } else if constexpr (std::is_same_v<S, scene::Sphere>) {
                 info.kind = LeafKind::sphere;
                 info.position = Vec3(shape.center);
+                info.radius = static_cast<float>(shape.radius);
             } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
                 info.kind = LeafKind::cylinder;
                 info.position = Vec3(shape.base);
-                info.direction = normalize(Vec3(shape.cap) - info.position);
+                Vec3 along = Vec3(shape.cap) - info.position;
+                info.direction = normalize(along);
+                info.radius = static_cast<float>(shape.radius);
+                info.height = length(along);
             } else if constexpr (std::is_same_v<S, scene::Box>) {
                 info.kind = LeafKind::box;
+                info.position = Vec3(shape.min);
+                info.far_corner = Vec3(shape.max);
             }
         },
         object.shape);

@@ -68,11 +68,16 @@ struct CsgObject {
 
 enum class LeafKind : std::uint8_t { plane, sphere, cylinder, box };
 
-// What the normal of a hit needs, per leaf (looked up once per hit, not per test).
+// What the normal of a hit and its re-projection onto the surface need, per leaf (looked up once per
+// hit, not per test).
 struct LeafInfo {
     LeafKind kind;
-    Vec3 position;   // sphere centre, cylinder base
-    Vec3 direction;  // plane normal, cylinder axis
+    Vec3 position;    // sphere centre, cylinder base, box min corner
+    Vec3 direction;   // plane normal, cylinder axis
+    Vec3 far_corner;  // box max corner
+    float radius;     // sphere, cylinder
+    float height;     // cylinder
+    float offset;     // plane
     int material;
 };
 

@@ -184,13 +184,67 @@ Vec3 outward_direction(const LeafInfo& leaf, std::int32_t tag, Vec3 point, bool&
     return (tag & tag_flipped) ? -normal : normal;
 }
 
+// γ(n) = n·u/(1 − n·u), u = ε/2: the bound on the relative error of n rounded float operations.
+constexpr float rounding_bound(int n) {
+    constexpr float u = std::numeric_limits<float>::epsilon() / 2;
+    return static_cast<float>(n) * u / (1.0f - static_cast<float>(n) * u);
+}
+
+// Where a hit point is re-projected onto its primitive: p' = anchor + radius·n̂ with n̂ the unit outward
+// normal as outward_direction turns it (radius 0 on flat faces, where the anchor is p' itself), only
+// where p is farther than `own_rounding` from p' (measurably off the surface); and the offset its
+// secondary rays start at: size_bound + point_factor·|p'|∞. The same formulas and bounds as the
+// reference's surface_point (reference/sphere.h, plane.h, cylinder.h, box.h; the derivations are there),
+// so both tracers leave surfaces alike.
+struct SurfaceAnchor {
+    Vec3 anchor;
+    float radius = 0;
+    float own_rounding = 0;
+    float size_bound = 0;
+    float point_factor = 0;
+};
+
+SurfaceAnchor surface_anchor(const LeafInfo& leaf, std::int32_t tag, Vec3 point) {
+    std::int32_t face = tag & tag_face_mask;
+    float turned = (tag & tag_flipped) ? -1.0f : 1.0f;  // outward_direction turned n̂: turn the radius too
+    switch (leaf.kind) {
+        case LeafKind::plane: {
+            Vec3 projected = point + (leaf.offset - dot(leaf.direction, point)) * leaf.direction;
+            float own_rounding = rounding_bound(2) * max_abs_component(point) + rounding_bound(1) * std::fabs(leaf.offset);
+            return {projected, 0.0f, own_rounding, rounding_bound(2) * std::fabs(leaf.offset), rounding_bound(15)};
+        }
+        case LeafKind::sphere: {
+            float own_rounding = rounding_bound(5) * leaf.radius + rounding_bound(2) * max_abs_component(point);
+            return {leaf.position, turned * leaf.radius, own_rounding, rounding_bound(9) * leaf.radius, rounding_bound(4)};
+        }
+        case LeafKind::box: {
+            int axis = face >> 1;
+            float coordinates[3] = {point.x, point.y, point.z};
+            coordinates[axis] = (face & 1) ? leaf.far_corner[axis] : leaf.position[axis];
+            return {{coordinates[0], coordinates[1], coordinates[2]}, 0.0f, 0.0f, 0.0f, rounding_bound(3)};
+        }
+        case LeafKind::cylinder: {
+            float axial = dot(point - leaf.position, leaf.direction);
+            float size_bound = rounding_bound(12) * (leaf.radius + leaf.height);
+            float own_rounding = rounding_bound(5) * (leaf.radius + leaf.height) + rounding_bound(2) * max_abs_component(point);
+            if (face == cylinder_side) {
+                return {leaf.position + axial * leaf.direction, turned * leaf.radius, own_rounding, size_bound, rounding_bound(4)};
+            }
+            float cap_axial = face == cylinder_top_cap ? leaf.height : 0.0f;
+            return {point - (axial - cap_axial) * leaf.direction, 0.0f, own_rounding, size_bound, rounding_bound(4)};
+        }
+    }
+    return {point};
+}
+
 struct Hit4 {
     vbool4 hit;  // active lanes whose ray met a surface
     vfloat4 t;
-    Vec4 point;
+    Vec4 point;   // re-projected onto the primitive's surface
     Vec4 normal;  // unit, facing the ray
     vint4 leaf;
     vbool4 entering;
+    vfloat4 spawn_offset;  // how far off the surface secondary rays start
 };
 
 // The material of each lane's hit, gathered once per hit.
@@ -200,12 +254,10 @@ struct Material4 {
 };
 
 // The reference's rule (docs/reference-tracer.md): start off the surface on the side the ray leaves to,
-// by 64·ε·(|p|∞ + t), which bounds the hit point's rounding error with an order of magnitude to spare.
+// by the hit's spawn_offset (SurfaceAnchor).
 Vec4 spawn_origin(const Hit4& hit, const Vec4& direction) {
-    vfloat4 largest = max(abs(hit.point.x), max(abs(hit.point.y), abs(hit.point.z)));
-    vfloat4 offset = vfloat4(64.0f * std::numeric_limits<float>::epsilon()) * (largest + hit.t);
     vfloat4 side = select(dot(direction, hit.normal) >= vfloat4(0.0f), vfloat4(1.0f), vfloat4(-1.0f));
-    return hit.point + (side * offset) * hit.normal;
+    return hit.point + (side * hit.spawn_offset) * hit.normal;
 }
 
 // Recording the ray tree (twinray probe) of lane 0, where the per-ray API runs its one ray. The tracing
@@ -372,7 +424,7 @@ private:
         hit.point = Vec4{rays.origin[0], rays.origin[1], rays.origin[2]} + hit.t * direction;
         hit.leaf = nearest.leaf;
         hit.entering = {_mm_castsi128_ps(_mm_cmpeq_epi32((nearest.tag & vint4(tag_entering)).m, vint4(tag_entering).m))};
-        alignas(16) float point[3][4], normal[3][4];
+        alignas(16) float point[3][4], normal[3][4], anchor[3][4], radius[4], own_rounding[4], size_bound[4], point_factor[4];
         alignas(16) std::int32_t leaf[4], tag[4], curved[4];
         hit.point.x.store(point[0]);
         hit.point.y.store(point[1]);
@@ -383,20 +435,41 @@ private:
         for (int lane = 0; lane < 4; ++lane) {
             Vec3 outward{0.0f, 0.0f, 1.0f};
             bool needs_normalizing = false;
+            SurfaceAnchor surface;
             if ((lanes >> lane) & 1) {
-                outward = outward_direction(scene_.leaves[static_cast<std::size_t>(leaf[lane])], tag[lane],
-                                            {point[0][lane], point[1][lane], point[2][lane]}, needs_normalizing);
+                const LeafInfo& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
+                Vec3 p{point[0][lane], point[1][lane], point[2][lane]};
+                outward = outward_direction(info, tag[lane], p, needs_normalizing);
+                surface = surface_anchor(info, tag[lane], p);
             }
             normal[0][lane] = outward.x;
             normal[1][lane] = outward.y;
             normal[2][lane] = outward.z;
             curved[lane] = needs_normalizing ? -1 : 0;
+            anchor[0][lane] = surface.anchor.x;
+            anchor[1][lane] = surface.anchor.y;
+            anchor[2][lane] = surface.anchor.z;
+            radius[lane] = surface.radius;
+            own_rounding[lane] = surface.own_rounding;
+            size_bound[lane] = surface.size_bound;
+            point_factor[lane] = surface.point_factor;
         }
         Vec4 outward{vfloat4::load(normal[0]), vfloat4::load(normal[1]), vfloat4::load(normal[2])};
         vbool4 normalize_lanes{_mm_castsi128_ps(vint4::load(curved).m)};
         if (any(normalize_lanes)) {
-            outward = select(normalize_lanes, normalize(outward), outward);
+            // As the reference's radial_normal: a radial vector of exactly zero (a primitive smaller than
+            // the ulp where it stands) has no direction; the ray's reverse stands in for it, not a NaN.
+            vbool4 degenerate = dot(outward, outward) == vfloat4(0.0f);
+            outward = select(normalize_lanes, normalize(select(degenerate, -direction, outward)), outward);
         }
+        // Re-projected onto the surface where measurably off it: p is |n̂·(p − anchor)| from the anchor
+        // along n̂ and p' is |radius| (0 on flat faces, whose anchor is p' itself).
+        Vec4 anchors{vfloat4::load(anchor[0]), vfloat4::load(anchor[1]), vfloat4::load(anchor[2])};
+        vfloat4 radii = vfloat4::load(radius);
+        vfloat4 off_surface = abs(abs(dot(outward, hit.point - anchors)) - abs(radii));
+        hit.point = select(off_surface > vfloat4::load(own_rounding), anchors + radii * outward, hit.point);
+        vfloat4 largest = max(abs(hit.point.x), max(abs(hit.point.y), abs(hit.point.z)));
+        hit.spawn_offset = vfloat4::load(size_bound) + vfloat4::load(point_factor) * largest;
         hit.normal = select(dot(outward, direction) > vfloat4(0.0f), -outward, outward);
         return hit;
     }
@@ -709,7 +782,18 @@ Tracer::Tracer(const scene::Scene& scene) : scene_(std::make_unique<CompiledScen
 
 Tracer::~Tracer() = default;
 
+bool is_traceable(const Ray& ray) {
+    const Vec3& o = ray.origin;
+    const Vec3& d = ray.direction;
+    bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) && std::isfinite(d.x) &&
+                  std::isfinite(d.y) && std::isfinite(d.z);
+    return finite && std::fabs(dot(d, d) - 1.0f) <= 1e-3f;
+}
+
 std::optional<Hit> Tracer::intersect(const Ray& ray) const {
+    if (!is_traceable(ray)) {
+        return std::nullopt;
+    }
     RayPacket rays = single_ray_packet(ray);
     Hit4 hit4 = PacketTracer(*scene_).intersect(rays);
     if (!(movemask(hit4.hit) & 1)) {
@@ -723,10 +807,14 @@ std::optional<Hit> Tracer::intersect(const Ray& ray) const {
     hit4.leaf.store(leaf);
     hit.leaf = leaf[0];
     hit.entering = (movemask(hit4.entering) & 1) != 0;
+    hit.spawn_offset = hit4.spawn_offset.lane(0);
     return hit;
 }
 
 Color Tracer::trace(const Ray& ray, int depth, std::uint64_t* rays, RayTree* tree) const {
+    if (!is_traceable(ray)) {
+        return scene_->background;
+    }
     RayPacket packet = single_ray_packet(ray);
     std::uint64_t count = 0;
     Color4 color = PacketTracer(*scene_).trace(packet, depth, count, tree);

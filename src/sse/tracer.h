@@ -26,11 +26,16 @@ struct Ray {
 
 struct Hit {
     float t = 0;
-    Vec3 point;
+    Vec3 point;      // re-projected onto the primitive's surface
     Vec3 normal;     // unit, facing the ray
     int leaf = -1;   // the primitive hit (Scene::leaf_paths)
     bool entering = false;
+    float spawn_offset = 0;  // how far off the surface secondary rays start
 };
+
+// As the reference's (reference/ray.h): every component finite and the direction of unit length within
+// 1e-3. The per-ray API answers any other ray with a miss (intersect) or the background (trace).
+bool is_traceable(const Ray& ray);
 
 struct CompiledScene;
 
@@ -41,7 +46,7 @@ public:
     Tracer(const Tracer&) = delete;
     Tracer& operator=(const Tracer&) = delete;
 
-    std::optional<Hit> intersect(const Ray& ray) const;
+    std::optional<Hit> intersect(const Ray& ray) const;  // a miss for a ray that is not is_traceable
     // `tree`, if given, receives every ray traced, what it hit, each light's visibility and its colours
     // (twinray probe); the colour is the same with or without it.
     Color trace(const Ray& ray, int depth, std::uint64_t* rays = nullptr, RayTree* tree = nullptr) const;
