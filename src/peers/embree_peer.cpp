@@ -1,0 +1,229 @@
+#include "peers/embree_peer.h"
+
+#include "reference/box.h"
+#include "reference/cylinder.h"
+#include "reference/plane.h"
+#include "sse/tracer.h"
+
+#include <embree3/rtcore.h>
+
+#include <chrono>
+#include <limits>
+#include <stdexcept>
+#include <variant>
+#include <vector>
+
+namespace twinray::peers {
+namespace {
+
+using Shape = std::variant<reference::PlaneShape<float>, reference::CylinderShape<float>, reference::BoxShape<float>>;
+using FloatVec = reference::Vec3<float>;
+
+// Embree needs finite bounds: planes get a cube far beyond any scene of ours.
+constexpr float plane_extent = 1e6f;
+
+struct UserGeometry {
+    std::vector<Shape> shapes;
+    std::vector<RTCBounds> bounds;
+};
+
+RTCBounds bounds_of(const Shape& shape) {
+    return std::visit(
+        [](const auto& s) -> RTCBounds {
+            using S = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<S, reference::BoxShape<float>>) {
+                return {s.min[0], s.min[1], s.min[2], 0, s.max[0], s.max[1], s.max[2], 0};
+            } else if constexpr (std::is_same_v<S, reference::CylinderShape<float>>) {
+                FloatVec cap = s.base + s.height * s.axis;
+                float r = s.radius;
+                return {std::min(s.base[0], cap[0]) - r, std::min(s.base[1], cap[1]) - r, std::min(s.base[2], cap[2]) - r, 0,
+                        std::max(s.base[0], cap[0]) + r, std::max(s.base[1], cap[1]) + r, std::max(s.base[2], cap[2]) + r, 0};
+            } else {
+                return {-plane_extent, -plane_extent, -plane_extent, 0, plane_extent, plane_extent, plane_extent, 0};
+            }
+        },
+        shape);
+}
+
+void user_bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* geometry = static_cast<const UserGeometry*>(args->geometryUserPtr);
+    *args->bounds_o = geometry->bounds[args->primID];
+}
+
+// The nearest crossing of the shape in (tnear, tfar), as the reference finds it, recorded as Embree's hit.
+void user_intersect(const RTCIntersectFunctionNArguments* args) {
+    const auto* geometry = static_cast<const UserGeometry*>(args->geometryUserPtr);
+    const Shape& shape = geometry->shapes[args->primID];
+    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] == 0) {
+            continue;
+        }
+        reference::Ray<float> ray{{RTCRayN_org_x(rays, args->N, i), RTCRayN_org_y(rays, args->N, i), RTCRayN_org_z(rays, args->N, i)},
+                                  {RTCRayN_dir_x(rays, args->N, i), RTCRayN_dir_y(rays, args->N, i), RTCRayN_dir_z(rays, args->N, i)}};
+        float near = RTCRayN_tnear(rays, args->N, i);
+        float& far = RTCRayN_tfar(rays, args->N, i);
+        auto span = std::visit([&](const auto& s) { return reference::span_of(s, ray); }, shape);
+        if (!span) {
+            continue;
+        }
+        const reference::Crossing<float>& crossing = span->enter.t > near ? span->enter : span->exit;
+        if (!(crossing.t > near && crossing.t < far)) {
+            continue;
+        }
+        far = crossing.t;
+        RTCHitN_Ng_x(hits, args->N, i) = crossing.outward_normal[0];
+        RTCHitN_Ng_y(hits, args->N, i) = crossing.outward_normal[1];
+        RTCHitN_Ng_z(hits, args->N, i) = crossing.outward_normal[2];
+        RTCHitN_u(hits, args->N, i) = 0;
+        RTCHitN_v(hits, args->N, i) = 0;
+        RTCHitN_primID(hits, args->N, i) = args->primID;
+        RTCHitN_geomID(hits, args->N, i) = args->geomID;
+        RTCHitN_instID(hits, args->N, i, 0) = args->context->instID[0];
+    }
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+std::string embree_unsupported_reason(const scene::Scene& scene) {
+    return scene.has_csg() ? "CSG" : "";
+}
+
+struct EmbreePeer::State {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    UserGeometry user;
+    std::vector<float> spheres;  // x, y, z, r
+    int width = 0, height = 0;
+    std::vector<sse::Ray> rays;  // row by row
+
+    ~State() {
+        if (scene != nullptr) rtcReleaseScene(scene);
+        if (device != nullptr) rtcReleaseDevice(device);
+    }
+};
+
+EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) : state_(std::make_unique<State>()) {
+    State& s = *state_;
+    s.device = rtcNewDevice(nullptr);
+    if (s.device == nullptr) {
+        throw std::runtime_error("Embree: rtcNewDevice failed (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+    }
+    s.scene = rtcNewScene(s.device);
+    for (const scene::Object& object : scene.objects) {
+        if (const auto* sphere = std::get_if<scene::Sphere>(&object.shape)) {
+            for (double v : {sphere->center[0], sphere->center[1], sphere->center[2], sphere->radius}) {
+                s.spheres.push_back(static_cast<float>(v));
+            }
+        } else if (const auto* plane = std::get_if<scene::Plane>(&object.shape)) {
+            s.user.shapes.push_back(reference::PlaneShape<float>{FloatVec(plane->normal), static_cast<float>(plane->offset), object.leaf});
+        } else if (const auto* cylinder = std::get_if<scene::Cylinder>(&object.shape)) {
+            reference::Vec3<float> base(cylinder->base);
+            reference::Vec3<float> along = FloatVec(cylinder->cap) - base;
+            s.user.shapes.push_back(reference::CylinderShape<float>{base, normalize(along), length(along),
+                                                                    static_cast<float>(cylinder->radius), object.leaf});
+        } else if (const auto* box = std::get_if<scene::Box>(&object.shape)) {
+            s.user.shapes.push_back(reference::BoxShape<float>{FloatVec(box->min), FloatVec(box->max), object.leaf});
+        } else {
+            throw std::runtime_error("Embree peer: scenes with CSG are not supported");
+        }
+    }
+    if (!s.spheres.empty()) {
+        RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, s.spheres.data(), 0,
+                                   4 * sizeof(float), s.spheres.size() / 4);
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometry(s.scene, geometry);
+        rtcReleaseGeometry(geometry);
+    }
+    if (!s.user.shapes.empty()) {
+        for (const Shape& shape : s.user.shapes) {
+            s.user.bounds.push_back(bounds_of(shape));
+        }
+        RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(s.user.shapes.size()));
+        rtcSetGeometryUserData(geometry, &s.user);
+        rtcSetGeometryBoundsFunction(geometry, user_bounds, nullptr);
+        rtcSetGeometryIntersectFunction(geometry, user_intersect);
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometry(s.scene, geometry);
+        rtcReleaseGeometry(geometry);
+    }
+    rtcCommitScene(s.scene);
+    if (RTCError error = rtcGetDeviceError(s.device); error != RTC_ERROR_NONE) {
+        throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(error) + ")");
+    }
+    scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
+    s.width = size.width;
+    s.height = size.height;
+    sse::Tracer camera(scene);
+    for (int y = 0; y < s.height; ++y) {
+        for (int x = 0; x < s.width; ++x) {
+            s.rays.push_back(camera.primary_ray(x, y, s.width, s.height));
+        }
+    }
+}
+
+EmbreePeer::~EmbreePeer() = default;
+
+FirstHitRun EmbreePeer::cast_single() const {
+    const State& s = *state_;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    FirstHitRun run;
+    auto start = std::chrono::steady_clock::now();
+    for (const sse::Ray& ray : s.rays) {
+        RTCRayHit rayhit{};
+        rayhit.ray = {ray.origin.x, ray.origin.y, ray.origin.z, 0.0f, ray.direction.x, ray.direction.y, ray.direction.z,
+                      0.0f, std::numeric_limits<float>::infinity(), ~0u, 0, 0};
+        rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(s.scene, &context, &rayhit);
+        run.hits += rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
+    }
+    run.seconds = seconds_since(start);
+    run.rays = s.rays.size();
+    return run;
+}
+
+FirstHitRun EmbreePeer::cast_packets() const {
+    const State& s = *state_;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    FirstHitRun run;
+    auto start = std::chrono::steady_clock::now();
+    for (int y = 0; y < s.height; y += 2) {
+        for (int x = 0; x < s.width; x += 2) {
+            alignas(16) RTCRayHit4 packet{};
+            alignas(16) int valid[4];
+            for (int lane = 0; lane < 4; ++lane) {
+                int px = x + (lane & 1), py = y + (lane >> 1);
+                valid[lane] = px < s.width && py < s.height ? -1 : 0;
+                const sse::Ray& ray = s.rays[static_cast<std::size_t>(valid[lane] != 0 ? py * s.width + px : y * s.width + x)];
+                packet.ray.org_x[lane] = ray.origin.x;
+                packet.ray.org_y[lane] = ray.origin.y;
+                packet.ray.org_z[lane] = ray.origin.z;
+                packet.ray.dir_x[lane] = ray.direction.x;
+                packet.ray.dir_y[lane] = ray.direction.y;
+                packet.ray.dir_z[lane] = ray.direction.z;
+                packet.ray.tnear[lane] = 0.0f;
+                packet.ray.tfar[lane] = std::numeric_limits<float>::infinity();
+                packet.ray.mask[lane] = ~0u;
+                packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+            }
+            rtcIntersect4(valid, s.scene, &context, &packet);
+            for (int lane = 0; lane < 4; ++lane) {
+                run.hits += valid[lane] != 0 && packet.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
+            }
+        }
+    }
+    run.seconds = seconds_since(start);
+    run.rays = s.rays.size();
+    return run;
+}
+
+}  // namespace twinray::peers
