@@ -87,11 +87,10 @@ void add_precision_options(CLI::App& command, sse::Precision& precision) {
                 bool fast = preset == "fast";
                 precision.fast_rcp = precision.fast_rcp || fast;
                 precision.fast_rsqrt = precision.fast_rsqrt || fast;
-                precision.dpps = precision.dpps || fast;
                 precision.textbook_quadratic = precision.textbook_quadratic || fast;
                 precision.flush_denormals = precision.flush_denormals || fast;
             },
-            "sse: a preset: exact (the default) or fast (every knob above)")
+            "sse: a preset: exact (the default) or fast (--fast-rcp --fast-rsqrt --textbook-quadratic --ftz)")
         ->check(CLI::IsMember({"exact", "fast"}));
 }
 

@@ -35,7 +35,7 @@ struct Hit {
 
 // The speed/accuracy knobs (docs/performance.md). The default is the exact tracer; each knob trades
 // accuracy for speed. The four kernel knobs select a separately compiled tracer (precision.h), built
-// for exact, each knob alone and all four together (precision_is_built); flush_denormals is a run-time
+// for exact, each knob alone and rcp+rsqrt+textbook (precision_is_built); flush_denormals is a run-time
 // MXCSR setting, combinable with any of them.
 struct Precision {
     bool fast_rcp = false;            // divisions: _mm_rcp_ps + one Newton step instead of _mm_div_ps
