@@ -1,13 +1,13 @@
 #include "peers/embree_peer.h"
 
-#include "reference/box.h"
 #include "reference/cylinder.h"
-#include "reference/plane.h"
 #include "sse/tracer.h"
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <variant>
@@ -16,33 +16,77 @@
 namespace twinray::peers {
 namespace {
 
-using Shape = std::variant<reference::PlaneShape<float>, reference::CylinderShape<float>, reference::BoxShape<float>>;
+using Shape = reference::CylinderShape<float>;
 using FloatVec = reference::Vec3<float>;
 
-// Embree needs finite bounds: planes get a cube far beyond any scene of ours.
-constexpr float plane_extent = 1e6f;
+// A plane becomes one quad of half-side plane_extent around its point nearest the origin: Embree has
+// no infinite primitive, and its native quads beat a user callback. Our scenes meet their planes
+// within about 1e4 of the origin.
+constexpr double plane_extent = 1e5;
+
+// Planes and boxes as quads (Embree's own geometry): four vertices each, index quads.
+struct Quads {
+    std::vector<float> vertices;  // x, y, z per vertex, then 4 bytes of padding Embree may read
+    std::vector<unsigned> indices;
+
+    void add(const scene::Vec3 corners[4]) {
+        auto first = static_cast<unsigned>(vertices.size() / 3);
+        for (int i = 0; i < 4; ++i) {
+            for (int axis = 0; axis < 3; ++axis) {
+                vertices.push_back(static_cast<float>(corners[i][axis]));
+            }
+            indices.push_back(first + static_cast<unsigned>(i));
+        }
+    }
+};
+
+scene::Vec3 combine(const scene::Vec3& p, double a, const scene::Vec3& u, double b, const scene::Vec3& v) {
+    return {p[0] + a * u[0] + b * v[0], p[1] + a * u[1] + b * v[1], p[2] + a * u[2] + b * v[2]};
+}
+
+void add_plane(const scene::Plane& plane, Quads& quads) {
+    const scene::Vec3& n = plane.normal;
+    // A tangent: n crossed with the axis n is least aligned with, then the second by n × first.
+    int least = std::fabs(n[0]) <= std::fabs(n[1]) && std::fabs(n[0]) <= std::fabs(n[2]) ? 0 : std::fabs(n[1]) <= std::fabs(n[2]) ? 1 : 2;
+    scene::Vec3 axis{least == 0 ? 1.0 : 0.0, least == 1 ? 1.0 : 0.0, least == 2 ? 1.0 : 0.0};
+    scene::Vec3 u{n[1] * axis[2] - n[2] * axis[1], n[2] * axis[0] - n[0] * axis[2], n[0] * axis[1] - n[1] * axis[0]};
+    double length = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (double& c : u) c /= length;
+    scene::Vec3 v{n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+    scene::Vec3 centre{plane.offset * n[0], plane.offset * n[1], plane.offset * n[2]};
+    const double e = plane_extent;
+    const scene::Vec3 corners[4] = {combine(centre, -e, u, -e, v), combine(centre, e, u, -e, v), combine(centre, e, u, e, v),
+                                    combine(centre, -e, u, e, v)};
+    quads.add(corners);
+}
+
+void add_box(const scene::Box& box, Quads& quads) {
+    for (int axis = 0; axis < 3; ++axis) {
+        int a = (axis + 1) % 3, b = (axis + 2) % 3;
+        for (double side : {box.min[axis], box.max[axis]}) {
+            scene::Vec3 corners[4];
+            const double along_a[4] = {box.min[a], box.max[a], box.max[a], box.min[a]};
+            const double along_b[4] = {box.min[b], box.min[b], box.max[b], box.max[b]};
+            for (int i = 0; i < 4; ++i) {
+                corners[i][axis] = side;
+                corners[i][a] = along_a[i];
+                corners[i][b] = along_b[i];
+            }
+            quads.add(corners);
+        }
+    }
+}
 
 struct UserGeometry {
     std::vector<Shape> shapes;
     std::vector<RTCBounds> bounds;
 };
 
-RTCBounds bounds_of(const Shape& shape) {
-    return std::visit(
-        [](const auto& s) -> RTCBounds {
-            using S = std::decay_t<decltype(s)>;
-            if constexpr (std::is_same_v<S, reference::BoxShape<float>>) {
-                return {s.min[0], s.min[1], s.min[2], 0, s.max[0], s.max[1], s.max[2], 0};
-            } else if constexpr (std::is_same_v<S, reference::CylinderShape<float>>) {
-                FloatVec cap = s.base + s.height * s.axis;
-                float r = s.radius;
-                return {std::min(s.base[0], cap[0]) - r, std::min(s.base[1], cap[1]) - r, std::min(s.base[2], cap[2]) - r, 0,
-                        std::max(s.base[0], cap[0]) + r, std::max(s.base[1], cap[1]) + r, std::max(s.base[2], cap[2]) + r, 0};
-            } else {
-                return {-plane_extent, -plane_extent, -plane_extent, 0, plane_extent, plane_extent, plane_extent, 0};
-            }
-        },
-        shape);
+RTCBounds bounds_of(const Shape& s) {
+    FloatVec cap = s.base + s.height * s.axis;
+    float r = s.radius;
+    return {std::min(s.base[0], cap[0]) - r, std::min(s.base[1], cap[1]) - r, std::min(s.base[2], cap[2]) - r, 0,
+            std::max(s.base[0], cap[0]) + r, std::max(s.base[1], cap[1]) + r, std::max(s.base[2], cap[2]) + r, 0};
 }
 
 void user_bounds(const RTCBoundsFunctionArguments* args) {
@@ -64,7 +108,7 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
                                   {RTCRayN_dir_x(rays, args->N, i), RTCRayN_dir_y(rays, args->N, i), RTCRayN_dir_z(rays, args->N, i)}};
         float near = RTCRayN_tnear(rays, args->N, i);
         float& far = RTCRayN_tfar(rays, args->N, i);
-        auto span = std::visit([&](const auto& s) { return reference::span_of(s, ray); }, shape);
+        auto span = reference::span_of(shape, ray);
         if (!span) {
             continue;
         }
@@ -98,6 +142,7 @@ struct EmbreePeer::State {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     UserGeometry user;
+    Quads quads;
     std::vector<float> spheres;  // x, y, z, r
     int width = 0, height = 0;
     std::vector<sse::Ray> rays;  // row by row
@@ -121,14 +166,14 @@ EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) : state_(std::make_
                 s.spheres.push_back(static_cast<float>(v));
             }
         } else if (const auto* plane = std::get_if<scene::Plane>(&object.shape)) {
-            s.user.shapes.push_back(reference::PlaneShape<float>{FloatVec(plane->normal), static_cast<float>(plane->offset), object.leaf});
+            add_plane(*plane, s.quads);
         } else if (const auto* cylinder = std::get_if<scene::Cylinder>(&object.shape)) {
             reference::Vec3<float> base(cylinder->base);
             reference::Vec3<float> along = FloatVec(cylinder->cap) - base;
             s.user.shapes.push_back(reference::CylinderShape<float>{base, normalize(along), length(along),
                                                                     static_cast<float>(cylinder->radius), object.leaf});
         } else if (const auto* box = std::get_if<scene::Box>(&object.shape)) {
-            s.user.shapes.push_back(reference::BoxShape<float>{FloatVec(box->min), FloatVec(box->max), object.leaf});
+            add_box(*box, s.quads);
         } else {
             throw std::runtime_error("Embree peer: scenes with CSG are not supported");
         }
@@ -137,6 +182,17 @@ EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) : state_(std::make_
         RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
         rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, s.spheres.data(), 0,
                                    4 * sizeof(float), s.spheres.size() / 4);
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometry(s.scene, geometry);
+        rtcReleaseGeometry(geometry);
+    }
+    if (!s.quads.indices.empty()) {
+        s.quads.vertices.push_back(0.0f);  // the padding
+        RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_QUAD);
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, s.quads.vertices.data(), 0,
+                                   3 * sizeof(float), (s.quads.vertices.size() - 1) / 3);
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, s.quads.indices.data(), 0,
+                                   4 * sizeof(unsigned), s.quads.indices.size() / 4);
         rtcCommitGeometry(geometry);
         rtcAttachGeometry(s.scene, geometry);
         rtcReleaseGeometry(geometry);

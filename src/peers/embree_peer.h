@@ -1,6 +1,7 @@
-// Embree 3 as a first-hit peer for `twinray bench` (built only when Embree is installed): our scene's
-// spheres as Embree's native point spheres, planes, cylinders and boxes as user geometry whose
-// callbacks run the reference tracer's formulas in float, and the same primary rays as the SSE tracer
+// Embree 3 as a first-hit peer for `twinray bench` (built only when Embree is installed), each of our
+// primitives in Embree's fastest form: spheres as its native point spheres, boxes as six native quads,
+// planes as one large quad, cylinders (Embree has no capped cylinder) as user geometry whose callback
+// runs the reference tracer's formula in float; and the same primary rays as the SSE tracer
 // (its camera, in float) cast one by one (rtcIntersect1) or as 2 × 2 packets (rtcIntersect4).
 #pragma once
 
