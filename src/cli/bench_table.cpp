@@ -38,15 +38,28 @@ std::string to_console(const BenchTable& table) {
     return text + "\n";
 }
 
+namespace {
+
+// "ref<double>" would read as an HTML tag in Markdown.
+std::string escape_html(const std::string& text) {
+    std::string escaped;
+    for (char c : text) {
+        escaped += c == '<' ? "&lt;" : c == '>' ? "&gt;" : std::string(1, c);
+    }
+    return escaped;
+}
+
+}  // namespace
+
 std::string to_markdown(const BenchTable& table) {
     auto line = [](const std::vector<std::string>& cells) {
         std::string text = "|";
         for (const std::string& c : cells) {
-            text += " " + c + " |";
+            text += " " + escape_html(c) + " |";
         }
         return text + "\n";
     };
-    std::string text = "### " + table.title + "\n\n" + line(table.headers) + "| --- |";
+    std::string text = "### " + escape_html(table.title) + "\n\n" + line(table.headers) + "| --- |";
     for (std::size_t i = 1; i < table.headers.size(); ++i) {
         text += " ---: |";
     }
