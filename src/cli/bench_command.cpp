@@ -221,7 +221,8 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
             if (k < 2) {
                 pov::render_with_povray(povray, folder, name, pov_text, size.width, size.height, k == 0 ? 1 : all_threads);
             } else {
-                pov::render_with_povray(povray, folder, name, tiny_text, 1, 1, 1);
+                // Its own file name: OpenImageIO caches images by name, and the size differs.
+                pov::render_with_povray(povray, folder, name + "-1x1", tiny_text, 1, 1, 1);
             }
             seconds[k].push_back(seconds_since(start));
         }
