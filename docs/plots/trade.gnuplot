@@ -8,15 +8,16 @@ floor = 1e-8   # an error of exactly 0 (reference<double> against itself) is dra
 set output outdir."/trade.png"
 set multiplot layout 1,2 title "twinray: speed-up over reference<double> (geometric mean over scenes) against the worst scene's error"
 set logscale x
+set format x "1e%L"
 set grid
 set key off
 set ylabel "speed-up over reference<double> (one thread unless marked nT)"
-set xlabel "image RMS error against reference<double> (worst scene; 0 drawn at 1e-8)"
-plot summary using (($6) > floor ? $6 : floor):2 every ::1 with points pt 7 ps 1.2, \
-     summary using (($6) > floor ? $6 : floor):2:1 every ::1 with labels offset 1,0.6 left rotate by 20 font ",8"
-set xlabel "primary-ray t relative error, 99.9th percentile (worst scene; 0 drawn at 1e-8)"
-plot summary using (($8) > floor ? $8 : floor):2 every ::1 with points pt 7 ps 1.2, \
-     summary using (($8) > floor ? $8 : floor):2:1 every ::1 with labels offset 1,0.6 left rotate by 20 font ",8"
+set xlabel "primary-ray t relative error, max (worst scene; 0 drawn at 1e-8)"
+plot summary using (($9) > floor ? $9 : floor):2 every ::1 with points pt 7 ps 1.2, \
+     summary using (($9) > floor ? $9 : floor):2:1 every ::1 with labels offset 1,0.6 left rotate by 20 font ",8"
+set xlabel "normal angle error, max, degrees (worst scene; 0 drawn at 1e-8)"
+plot summary using (($10) > floor ? $10 : floor):2 every ::1 with points pt 7 ps 1.2, \
+     summary using (($10) > floor ? $10 : floor):2:1 every ::1 with labels offset 1,0.6 left rotate by 20 font ",8"
 unset multiplot
 
 set output outdir."/scaling.png"
@@ -27,6 +28,6 @@ set xlabel "spheres"
 set ylabel "ns per ray"
 set key top left
 set xrange [7:14000]
-stats scaling using 1 every ::1 nooutput
+stats scaling using 1 nooutput
 columns = STATS_columns
-plot for [column=3:columns] scaling using 1:column every ::1 with linespoints lw 2 title columnhead(column)
+plot for [column=3:columns] scaling using 1:column with linespoints lw 2 title columnhead(column)
