@@ -45,12 +45,14 @@ inline vfloat4 dot(const Vec4& a, const Vec4& b) {
     const vfloat4 left[3] = {a.x, a.y, a.z}, right[3] = {b.x, b.y, b.z};
     return dot3<P>(left, right);
 }
+// Where only a sign is needed (spawn_origin's side of the surface), whatever the knobs.
 inline vfloat4 dot(const Vec4& a, const Vec4& b) { return dot<ExactKernels>(a, b); }
 inline Vec4 broadcast(Vec3 v) { return {vfloat4(v.x), vfloat4(v.y), vfloat4(v.z)}; }
 inline Vec4 select(vbool4 mask, const Vec4& a, const Vec4& b) {
     return {select(mask, a.x, b.x), select(mask, a.y, b.y), select(mask, a.z, b.z)};
 }
-// As the scalar normalize: one IEEE division shared by the three components (exact kernels).
+// 1/|a| by the knobs' inverse_sqrt; exact, as the scalar normalize: one IEEE division shared by the
+// three components.
 template <typename P>
 inline Vec4 normalize(const Vec4& a) { return inverse_sqrt<P>(dot<P>(a, a)) * a; }
 
