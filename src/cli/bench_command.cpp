@@ -253,7 +253,7 @@ void bench_first_hits(const std::string& name, const scene::Scene& scene, int wi
 #if TWINRAY_WITH_EMBREE
     if (std::string reason = peers::embree_unsupported_reason(scene); !reason.empty()) {
         row.insert(row.end(), {"n/a: " + reason, "", "", "", ""});
-    } else {
+    } else try {
         peers::EmbreePeer embree(scene, width);
         std::vector<double> single, packets;
         std::uint64_t embree_hits = 0;
@@ -267,6 +267,8 @@ void bench_first_hits(const std::string& name, const scene::Scene& scene, int wi
         row.insert(row.end(), {cell("%.2f", median(single)), cell("%.2f", median(packets)),
                                cell("%.2f", median(exact) / median(single)), cell("%.2f", median(exact) / median(packets)),
                                std::to_string(static_cast<long long>(hits.hits) - static_cast<long long>(embree_hits))});
+    } catch (const std::runtime_error& error) {
+        row.insert(row.end(), {std::string("failed: ") + error.what(), "", "", "", ""});
     }
 #else
     row.insert(row.end(), {"not built", "", "", "", ""});
@@ -409,7 +411,11 @@ int run_bench(const BenchArguments& arguments) {
         std::vector<double> sse_seconds;
         bench_scene(name, scene, arguments, configurations, summaries, sse_seconds, report);
         if (povray) {
-            bench_povray(name, scene, arguments, *povray, all_threads, sse_seconds, report);
+            try {
+                bench_povray(name, scene, arguments, *povray, all_threads, sse_seconds, report);
+            } catch (const pov::PovrayError& error) {
+                std::cerr << "twinray bench: POV-Ray failed on " << name << ", left out of its table: " << error.what() << "\n";
+            }
         }
         if (arguments.peers) {
             bench_first_hits(name, scene, arguments.width, arguments.runs, report);
