@@ -6,6 +6,8 @@
 // drop the work nor fuse iterations into wider vector code; the table at the end gives each variant's
 // time per dot product and its ratio to scalar code (the median over --benchmark_repetitions=N when
 // given). Built with -msse4.1; not a test.
+#include "scene/portable_random.h"
+
 #include <benchmark/benchmark.h>
 #include <smmintrin.h>
 
@@ -23,17 +25,13 @@ struct alignas(16) Vector4 {
     float x, y, z, w;
 };
 
-// Seeded splitmix64 values in [-1, 1): the same inputs on every machine.
+// Seeded, portable values in [-1, 1): the same inputs on every machine.
 std::vector<Vector4> inputs(std::uint64_t seed) {
     std::vector<Vector4> vectors(count);
-    auto next = [&seed] {
-        std::uint64_t z = (seed += 0x9E3779B97F4A7C15ULL);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-        return static_cast<float>(static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53 * 2.0 - 1.0);
-    };
+    twinray::SplitMix64 random(seed);
     for (Vector4& v : vectors) {
-        v = {next(), next(), next(), 0.0f};
+        v = {static_cast<float>(random.uniform(-1, 1)), static_cast<float>(random.uniform(-1, 1)),
+             static_cast<float>(random.uniform(-1, 1)), 0.0f};
     }
     return vectors;
 }

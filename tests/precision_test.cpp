@@ -5,6 +5,7 @@
 #include "compare/image_compare.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
+#include "scene/portable_random.h"
 #include "scene/sphere_field.h"
 #include "sse/cpu.h"
 #include "sse/precision.h"
@@ -30,20 +31,14 @@ using FastReciprocal = twinray::sse::Kernels<true, false, false, false>;
 using FastInverseSqrt = twinray::sse::Kernels<false, true, false, false>;
 using AosDotProduct = twinray::sse::Kernels<false, false, true, false>;
 
-// Seeded splitmix64 floats in [low, high): the same inputs everywhere.
+// Seeded, portable floats in [low, high).
 class Floats {
 public:
-    explicit Floats(std::uint64_t seed) : state_(seed) {}
-    float next(float low, float high) {
-        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ULL);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-        double unit = static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-        return static_cast<float>(low + (high - low) * unit);
-    }
+    explicit Floats(std::uint64_t seed) : random_(seed) {}
+    float next(float low, float high) { return static_cast<float>(random_.uniform(low, high)); }
 
 private:
-    std::uint64_t state_;
+    twinray::SplitMix64 random_;
 };
 
 vfloat4 four(Floats& random, float low, float high) {

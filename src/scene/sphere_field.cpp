@@ -1,29 +1,11 @@
 #include "scene/sphere_field.h"
 
+#include "scene/portable_random.h"
+
 #include <cmath>
 #include <string>
 
 namespace twinray::scene {
-namespace {
-
-// splitmix64 (Steele, Lea, Flood 2014): a portable sequence, unlike the standard distributions.
-class SplitMix64 {
-public:
-    explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
-    std::uint64_t next() {
-        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ULL);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-        return z ^ (z >> 31);
-    }
-    // Uniform in [low, high): the top 53 bits as a double in [0, 1).
-    double uniform(double low, double high) { return low + (high - low) * static_cast<double>(next() >> 11) * 0x1.0p-53; }
-
-private:
-    std::uint64_t state_;
-};
-
-}  // namespace
 
 Scene sphere_field(int count, std::uint64_t seed) {
     constexpr double half_side = 10;
