@@ -132,7 +132,7 @@ RayPacket packet_towards_minus_z() {
 // really runs and loads from `sphere` (a call whose result is unused may be removed as pure).
 volatile float kernel_result = 0;
 __attribute__((noinline)) float first_entry(const SphereF* sphere, const RayPacket& rays) {
-    float entry = spans(*sphere, rays).enter.lane(0);
+    float entry = spans<twinray::sse::ExactKernels>(*sphere, rays).enter.lane(0);
     kernel_result = entry;
     return entry;
 }

@@ -208,4 +208,38 @@ TEST_F(CliTest, GoldenUpdatesOnlyOnPurposeAndReportsWhatChanged) {
     EXPECT_TRUE(fs::exists(folder_ / "spheres.png"));
 }
 
+TEST_F(CliTest, PrecisionKnobsSelectAnSseVariantAndAreRefusedWhereTheyDoNotApply) {
+    CommandResult fast = run_twinray("render " + scene("spheres.json") + " --width 32 --precision fast -o " + output("f.png"));
+    ASSERT_EQ(fast.exit_status, 0) << fast.output;
+    EXPECT_NE(fast.output.find("precision:   rcp+rsqrt+textbook+ftz"), std::string::npos) << fast.output;
+    CommandResult reference =
+        run_twinray("render " + scene("spheres.json") + " --tracer reference --fast-rcp -o " + output("r.png"));
+    EXPECT_EQ(reference.exit_status, 1) << reference.output;
+    EXPECT_NE(reference.output.find("apply to --tracer sse only"), std::string::npos) << reference.output;
+    CommandResult unbuilt = run_twinray("render " + scene("spheres.json") + " --fast-rcp --dpps -o " + output("u.png"));
+    EXPECT_EQ(unbuilt.exit_status, 1) << unbuilt.output;
+    EXPECT_NE(unbuilt.output.find("built: exact"), std::string::npos) << unbuilt.output;
+    EXPECT_FALSE(fs::exists(output("r.png")));
+    EXPECT_FALSE(fs::exists(output("u.png")));
+}
+
+TEST_F(CliTest, BenchWritesItsTablesAsCsvAndMarkdown) {
+    CommandResult result = run_twinray("bench " + scene("spheres.json") + " --runs 1 --width 16 --no-peers --csv " +
+                                       output("bench.csv") + " --markdown " + output("bench.md"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    std::ifstream csv(output("bench.csv"));
+    std::string header, line;
+    std::getline(csv, header);
+    EXPECT_NE(header.find("t rel p99.9"), std::string::npos) << header;
+    int rows = 0;
+    while (std::getline(csv, line)) {
+        ++rows;
+    }
+    EXPECT_EQ(rows, 10) << "one row per configuration";
+    EXPECT_TRUE(fs::exists(output("bench-summary.csv")));
+    std::ifstream markdown(output("bench.md"));
+    std::string text((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("| spheres | sse rcp |"), std::string::npos) << text;
+}
+
 }  // namespace

@@ -2,6 +2,7 @@
 // object; t, point and normal within a bound derived from float epsilon and the scene's scale) and per
 // image (max absolute error, share of pixels over 1/255). Measured maxima are printed on every run.
 #include "tests/scene_files.h"
+#include "accuracy/ray_accuracy.h"
 #include "compare/image_compare.h"
 #include "compare/tolerances.h"
 #include "image/image.h"
@@ -23,7 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using RefTracer = twinray::reference::Tracer<double>;
-using RefRay = twinray::reference::Ray<double>;
 using RefHit = twinray::reference::Hit<double>;
 using RefVec = twinray::reference::Vec3<double>;
 
@@ -36,80 +36,13 @@ constexpr double float_epsilon = std::numeric_limits<float>::epsilon();
 // intersection formula adds a few ε of the same size through cancellation. The bound is that with a
 // factor 64 of margin: 64·ε·(S + t)/|cos θ|. The hit point obeys the same bound.
 constexpr double distance_bound_in_epsilons = 64;
-constexpr double normal_bound_radians = 1e-3;
-// A ray is in the silhouette/seam band when rays shifted by this share of a pixel on the image plane
-// see a different primitive, a hit where it misses (or the reverse), or a normal turned by more than
-// the normal bound: there a change of float rounding legitimately changes the answer.
-constexpr double band_pixels = 1e-3;
 
-
+using twinray::accuracy::angle_between;
+using twinray::accuracy::band_pixels;
+using twinray::accuracy::in_silhouette_band;
+using twinray::accuracy::largest_coordinate;
+using twinray::accuracy::normal_bound_radians;
 using twinray::test::scene_files;
-
-double largest_coordinate(const twinray::scene::Scene& scene) {
-    double largest = 0;
-    auto take = [&](const twinray::scene::Vec3& v) {
-        for (double c : v) largest = std::max(largest, std::fabs(c));
-    };
-    take(scene.camera.eye);
-    take(scene.camera.look_at);
-    std::function<void(const twinray::scene::Object&)> visit = [&](const twinray::scene::Object& object) {
-        std::visit(
-            [&](const auto& shape) {
-                using S = std::decay_t<decltype(shape)>;
-                if constexpr (std::is_same_v<S, twinray::scene::Plane>) {
-                    largest = std::max(largest, std::fabs(shape.offset));
-                } else if constexpr (std::is_same_v<S, twinray::scene::Sphere>) {
-                    take(shape.center);
-                    largest = std::max(largest, shape.radius);
-                } else if constexpr (std::is_same_v<S, twinray::scene::Cylinder>) {
-                    take(shape.base);
-                    take(shape.cap);
-                } else if constexpr (std::is_same_v<S, twinray::scene::Box>) {
-                    take(shape.min);
-                    take(shape.max);
-                } else {
-                    for (const auto& child : shape.children) visit(child);
-                }
-            },
-            object.shape);
-    };
-    for (const auto& object : scene.objects) visit(object);
-    return largest;
-}
-
-double angle_between(RefVec a, RefVec b) {
-    return std::atan2(twinray::reference::length(twinray::reference::cross(a, b)), twinray::reference::dot(a, b));
-}
-
-// The reference's ray through image-plane position (px, py) in pixels (px = x + 0.5 is a pixel centre).
-RefRay reference_ray_at(const twinray::scene::Scene& scene, double px, double py, int width, int height) {
-    using namespace twinray::reference;
-    Vec3<double> eye(scene.camera.eye);
-    Vec3<double> forward = normalize(Vec3<double>(scene.camera.look_at) - eye);
-    Vec3<double> right = normalize(cross(forward, Vec3<double>(scene.camera.up)));
-    Vec3<double> up = cross(right, forward);
-    double half_width = std::tan(scene.camera.fov_deg * std::numbers::pi / 360.0);
-    double half_height = half_width * height / width;
-    double u = (2.0 * px / width - 1.0) * half_width;
-    double v = (1.0 - 2.0 * py / height) * half_height;
-    return {eye, normalize(forward + u * right + v * up)};
-}
-
-bool same_answer(const std::optional<RefHit>& a, const std::optional<RefHit>& b) {
-    if (a.has_value() != b.has_value()) return false;
-    if (!a) return true;
-    return a->leaf == b->leaf && angle_between(a->normal, b->normal) <= normal_bound_radians;
-}
-
-bool in_band(const RefTracer& reference, const twinray::scene::Scene& scene, int x, int y, int width, int height,
-             const std::optional<RefHit>& centre) {
-    const double shifts[4][2] = {{band_pixels, 0}, {-band_pixels, 0}, {0, band_pixels}, {0, -band_pixels}};
-    for (const auto& shift : shifts) {
-        RefRay ray = reference_ray_at(scene, x + 0.5 + shift[0], y + 0.5 + shift[1], width, height);
-        if (!same_answer(centre, reference.intersect(ray))) return true;
-    }
-    return false;
-}
 
 class Conformance : public ::testing::TestWithParam<fs::path> {
 protected:
@@ -146,14 +79,14 @@ TEST_P(Conformance, EveryPrimaryRayHitsTheSameObjectWithinTheFloatBound) {
                 max_bound_share = std::max(max_bound_share, std::max(t_error, point_error) / distance_bound);
                 agrees = t_error <= distance_bound && point_error <= distance_bound &&
                          normal_error <= normal_bound_radians && actual->entering == expected->entering;
-                if (agrees || !in_band(reference, scene_, x, y, width, height, expected)) {
+                if (agrees || !in_silhouette_band(reference, scene_, x, y, width, height, expected)) {
                     max_t_error = std::max(max_t_error, t_error);
                     max_point_error = std::max(max_point_error, point_error);
                     max_normal_error = std::max(max_normal_error, normal_error);
                 }
             }
             if (!agrees) {
-                if (in_band(reference, scene_, x, y, width, height, expected)) {
+                if (in_silhouette_band(reference, scene_, x, y, width, height, expected)) {
                     ++banded;
                 } else {
                     ++disagreements;

@@ -2,6 +2,7 @@
 // it and nothing else, every shipped scene loads, and the values the loader fills in (defaults, the
 // normalised plane normal, material inheritance, leaf numbering, the image size) are the documented ones.
 #include "scene/loader.h"
+#include "scene/sphere_field.h"
 
 #include <gtest/gtest.h>
 
@@ -617,6 +618,30 @@ TEST(ResolveImageSize, SideOutsideOneTo16384IsRefused)
 TEST(ResolveImageSize, ScaledSideBeyond16384IsRefused)
 {
     EXPECT_THROW(resolve_image_size(scene_of_size(1, 16384), 2, 0), std::invalid_argument);
+}
+
+// The bench's generated scenes (twinray bench --scaling): as many spheres as asked, numbered as the
+// loader numbers leaves, inside the cube, the same again for the same seed and another for another.
+TEST(SphereField, HasTheAskedSpheresNumberedAsLoadedAndIsTheSameForTheSameSeed) {
+    Scene field = sphere_field(100);
+    ASSERT_EQ(field.objects.size(), 100u);
+    ASSERT_EQ(field.leaf_paths.size(), 100u);
+    ASSERT_EQ(field.leaf_materials.size(), 100u);
+    for (std::size_t i = 0; i < field.objects.size(); ++i) {
+        const auto& sphere = std::get<Sphere>(field.objects[i].shape);
+        EXPECT_EQ(field.objects[i].leaf, static_cast<int>(i));
+        EXPECT_EQ(field.leaf_paths[i], "objects[" + std::to_string(i) + "]");
+        EXPECT_GT(sphere.radius, 0.0);
+        for (double c : sphere.center) {
+            EXPECT_LE(std::fabs(c), 10.0);
+        }
+        EXPECT_GE(field.objects[i].material, 1);
+        EXPECT_LT(field.objects[i].material, static_cast<int>(field.materials.size()));
+    }
+    Scene again = sphere_field(100);
+    Scene other = sphere_field(100, 8);
+    EXPECT_EQ(std::get<Sphere>(again.objects[57].shape).center, std::get<Sphere>(field.objects[57].shape).center);
+    EXPECT_NE(std::get<Sphere>(other.objects[57].shape).center, std::get<Sphere>(field.objects[57].shape).center);
 }
 
 }  // namespace

@@ -1,16 +1,32 @@
 #include "cli/bench_command.h"
 
+#include "accuracy/ray_accuracy.h"
+#include "cli/bench_table.h"
 #include "cli/exit_codes.h"
 #include "cli/tracers.h"
+#include "compare/image_compare.h"
+#include "io/atomic_file.h"
+#include "pov/exporter.h"
+#include "pov/povray_runner.h"
+#include "reference/tracer.h"
 #include "scene/loader.h"
+#include "scene/sphere_field.h"
+#include "sse/tracer.h"
+#if TWINRAY_WITH_EMBREE
+#include "peers/embree_peer.h"
+#endif
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 namespace twinray::cli {
@@ -23,22 +39,39 @@ struct BenchArguments {
     int runs = 5;
     int threads = 0;
     int width = 640;
+    bool scaling = false;
+    bool peers = true;
+    std::string csv_path;
+    std::string markdown_path;
 };
 
 struct Configuration {
     std::string label;
     std::string tracer;
-    int threads;
+    sse::Precision precision;
+    int threads = 1;
 };
 
-double mrays_of_one_render(const std::string& tracer, const scene::Scene& scene, int width, int threads) {
-    RenderOptions options;
-    options.width = width;
-    options.threads = threads;
-    auto start = std::chrono::steady_clock::now();
-    RenderResult result = render_with(tracer, scene, options);
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return static_cast<double>(result.rays) / seconds / 1e6;
+// Every knob that can buy speed (--precision fast); dpps is the thesis's choice, timed on its own.
+sse::Precision all_fast_knobs() { return {.fast_rcp = true, .fast_rsqrt = true, .textbook_quadratic = true, .flush_denormals = true}; }
+
+// reference<double> first: every ratio and every error is against it.
+std::vector<Configuration> trade_configurations(int all_threads) {
+    auto sse_with = [](const char* label, sse::Precision precision) {
+        return Configuration{label, "sse", precision, 1};
+    };
+    return {
+        {"ref<double>", "reference", {}, 1},
+        {"ref<float>", "reference-float", {}, 1},
+        sse_with("sse exact", {}),
+        sse_with("sse rcp", {.fast_rcp = true}),
+        sse_with("sse rsqrt", {.fast_rsqrt = true}),
+        sse_with("sse dpps", {.dpps = true}),
+        sse_with("sse textbook", {.textbook_quadratic = true}),
+        sse_with("sse ftz", {.flush_denormals = true}),
+        sse_with("sse fast", all_fast_knobs()),
+        {"sse exact " + std::to_string(all_threads) + "T", "sse", {}, all_threads},
+    };
 }
 
 double median(std::vector<double> values) {
@@ -47,69 +80,368 @@ double median(std::vector<double> values) {
     return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
 }
 
-std::vector<std::string> default_scenes() {
-    std::vector<std::string> names = {"planes", "spheres", "cylinders", "complete1", "complete2", "csg"};
-    std::vector<std::string> paths;
-    for (const std::string& name : names) {
-        paths.push_back("scenes/" + name + ".json");
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Speeds of one configuration over the runs (Mrays/s), its per-run ratios to the first
+// configuration's, and seconds per frame.
+struct Timings {
+    std::vector<double> mrays, speedups, seconds;
+};
+
+// Every configuration renders once per run, in turn, so a slow spell of the shared machine weighs on
+// both sides of a ratio instead of on one column; each ratio is the median of per-run ratios.
+std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene, int width,
+                                  int runs, std::vector<Image>* last_images) {
+    std::vector<Timings> timings(configurations.size());
+    if (last_images != nullptr) {
+        last_images->assign(configurations.size(), Image(1, 1));
     }
+    for (int run = 0; run < runs; ++run) {
+        for (std::size_t i = 0; i < configurations.size(); ++i) {
+            const Configuration& configuration = configurations[i];
+            RenderOptions options;
+            options.width = width;
+            options.threads = configuration.threads;
+            auto start = std::chrono::steady_clock::now();
+            RenderResult result = render_with(configuration.tracer, scene, options, configuration.precision);
+            double seconds = seconds_since(start);
+            timings[i].seconds.push_back(seconds);
+            timings[i].mrays.push_back(static_cast<double>(result.rays) / seconds / 1e6);
+            if (last_images != nullptr && run + 1 == runs) {
+                (*last_images)[i] = std::move(result.image);
+            }
+        }
+        for (Timings& timing : timings) {
+            timing.speedups.push_back(timing.mrays.back() / timings[0].mrays.back());
+        }
+    }
+    return timings;
+}
+
+accuracy::RayAccuracy ray_accuracy(const Configuration& configuration, const scene::Scene& scene,
+                                   const std::vector<std::optional<accuracy::FirstHit>>& expected, int width, int height) {
+    if (configuration.tracer == "reference") {
+        reference::Tracer<double> tracer(scene);
+        return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);
+    }
+    if (configuration.tracer == "reference-float") {
+        reference::Tracer<float> tracer(scene);
+        return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);
+    }
+    sse::Tracer tracer(scene, configuration.precision);
+    return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);
+}
+
+// Across scenes, per configuration: speed-ups (for the geometric mean) and the worst errors.
+struct Summary {
+    std::vector<double> speedups;
+    double image_rms = 0, image_max = 0, over_share = 0, t_p999 = 0, t_max = 0, normal_max = 0;
+    long rays = 0, hit_miss = 0;
+};
+
+struct Report {
+    BenchTable trade, summary, povray, first_hit, scaling;
+};
+
+// One scene: timings, then the accuracy of each configuration's last image and of its primary rays.
+void bench_scene(const std::string& name, const scene::Scene& scene, const BenchArguments& arguments,
+                 const std::vector<Configuration>& configurations, std::vector<Summary>& summaries,
+                 std::vector<double>& sse_seconds, Report& report) {
+    std::vector<Image> images;
+    std::vector<Timings> timings = time_renders(configurations, scene, arguments.width, arguments.runs, &images);
+    const int width = images[0].width(), height = images[0].height();
+    reference::Tracer<double> oracle(scene);
+    auto expected = accuracy::all_first_hits(accuracy::first_hits_of(oracle, width, height), width, height);
+    Image reference_image = compare::clamped(images[0]);
+    compare::Thresholds over_one_level;
+    over_one_level.fail = over_one_level.warn = 1.0 / 255.0;
+    for (std::size_t i = 0; i < configurations.size(); ++i) {
+        compare::Metrics image = compare::measure(reference_image, compare::clamped(images[i]), over_one_level);
+        accuracy::RayAccuracy rays = ray_accuracy(configurations[i], scene, expected, width, height);
+        double over_share = static_cast<double>(image.fail_pixels) / static_cast<double>(image.pixel_count);
+        const Timings& t = timings[i];
+        report.trade.add_row({name, configurations[i].label, cell("%.2f", median(t.mrays)),
+                              cell("%.2f", *std::min_element(t.mrays.begin(), t.mrays.end())),
+                              cell("%.2f", *std::max_element(t.mrays.begin(), t.mrays.end())),
+                              cell("%.2f", median(t.speedups)), cell("%.3g", image.max_error),
+                              cell("%.3g", image.rms_error), cell("%.1f", image.rms_error == 0 ? INFINITY : image.psnr),
+                              cell("%.3f", 100 * over_share), cell("%.3g", rays.t_relative_p50),
+                              cell("%.3g", rays.t_relative_p999), cell("%.3g", rays.t_relative_max),
+                              cell("%.3g", rays.normal_angle_max_degrees),
+                              cell("%.0f", rays.per_million(rays.hit_miss_disagreements)),
+                              cell("%.0f", rays.per_million(rays.other_object))});
+        Summary& s = summaries[i];
+        s.speedups.push_back(median(t.speedups));
+        s.image_rms = std::max(s.image_rms, image.rms_error);
+        s.image_max = std::max(s.image_max, image.max_error);
+        s.over_share = std::max(s.over_share, over_share);
+        s.t_p999 = std::max(s.t_p999, rays.t_relative_p999);
+        s.t_max = std::max(s.t_max, rays.t_relative_max);
+        s.normal_max = std::max(s.normal_max, rays.normal_angle_max_degrees);
+        s.rays += rays.rays;
+        s.hit_miss += rays.hit_miss_disagreements;
+    }
+    // Seconds per frame of sse exact on one thread and on all, for the POV-Ray table.
+    sse_seconds = {median(timings[2].seconds), median(timings.back().seconds)};
+}
+
+void add_summary(const std::vector<Configuration>& configurations, const std::vector<Summary>& summaries, Report& report) {
+    for (std::size_t i = 0; i < configurations.size(); ++i) {
+        const Summary& s = summaries[i];
+        double log_sum = 0;
+        for (double speedup : s.speedups) {
+            log_sum += std::log(speedup);
+        }
+        double geometric_mean = std::exp(log_sum / static_cast<double>(s.speedups.size()));
+        report.summary.add_row({configurations[i].label, cell("%.2f", geometric_mean),
+                                cell("%.2f", *std::min_element(s.speedups.begin(), s.speedups.end())),
+                                cell("%.2f", *std::max_element(s.speedups.begin(), s.speedups.end())),
+                                cell("%.3g", s.image_max), cell("%.3g", s.image_rms), cell("%.3f", 100 * s.over_share),
+                                cell("%.3g", s.t_p999), cell("%.3g", s.t_max), cell("%.3g", s.normal_max),
+                                cell("%.0f", s.rays == 0 ? 0 : 1e6 * static_cast<double>(s.hit_miss) / static_cast<double>(s.rays))});
+    }
+}
+
+// POV-Ray 3.7 on the same scene exported at the same size: wall time per frame (process start-up
+// included, about 0.7 s of it), one thread and all, against the SSE tracer's frame time.
+void bench_povray(const std::string& name, const scene::Scene& scene, const BenchArguments& arguments,
+                  const fs::path& povray, int all_threads, const std::vector<double>& sse_seconds, Report& report) {
+    scene::ImageSize size = scene::resolve_image_size(scene, arguments.width, 0);
+    fs::path folder = fs::temp_directory_path() / ("twinray-bench-povray-" + std::to_string(::getpid()));
+    fs::create_directories(folder);
+    std::string pov_text = pov::export_pov(scene, size.width, size.height);
+    // The same scene at 1 x 1 pixel: POV-Ray's start-up and parse, the fixed cost inside every frame time.
+    std::string tiny_text = pov::export_pov(scene, 1, 1);
+    std::vector<double> seconds[3];
+    for (int run = 0; run < arguments.runs; ++run) {
+        for (int k = 0; k < 3; ++k) {
+            auto start = std::chrono::steady_clock::now();
+            if (k < 2) {
+                pov::render_with_povray(povray, folder, name, pov_text, size.width, size.height, k == 0 ? 1 : all_threads);
+            } else {
+                // Its own file name: OpenImageIO caches images by name, and the size differs.
+                pov::render_with_povray(povray, folder, name + "-1x1", tiny_text, 1, 1, 1);
+            }
+            seconds[k].push_back(seconds_since(start));
+        }
+    }
+    fs::remove_all(folder);
+    double one = median(seconds[0]), all = median(seconds[1]), start_up = median(seconds[2]);
+    report.povray.add_row({name, cell("%.3f", one), cell("%.3f", all), cell("%.3f", start_up), cell("%.4f", sse_seconds[0]),
+                           cell("%.4f", sse_seconds[1]), cell("%.1f", one / sse_seconds[0]), cell("%.1f", all / sse_seconds[1]),
+                           cell("%.1f", (one - start_up) / sse_seconds[0])});
+}
+
+// First hits of primary rays only: the SSE tracer (exact and --precision fast) against Embree 3.
+void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Report& report) {
+    RenderOptions options;
+    options.width = width;
+    options.threads = 1;
+    std::vector<double> exact, fast;
+    sse::FirstHits hits;
+    for (int run = 0; run < runs; ++run) {
+        auto start = std::chrono::steady_clock::now();
+        hits = sse::cast_primary_rays(scene, options);
+        exact.push_back(static_cast<double>(hits.rays) / seconds_since(start) / 1e6);
+        start = std::chrono::steady_clock::now();
+        sse::FirstHits fast_hits = sse::cast_primary_rays(scene, options, all_fast_knobs());
+        fast.push_back(static_cast<double>(fast_hits.rays) / seconds_since(start) / 1e6);
+    }
+    std::vector<std::string> row = {name, std::to_string(hits.rays), cell("%.2f", median(exact)), cell("%.2f", median(fast))};
+#if TWINRAY_WITH_EMBREE
+    if (std::string reason = peers::embree_unsupported_reason(scene); !reason.empty()) {
+        row.insert(row.end(), {"n/a: " + reason, "", "", "", ""});
+    } else try {
+        peers::EmbreePeer embree(scene, width);
+        std::vector<double> single, packets;
+        std::uint64_t embree_hits = 0;
+        for (int run = 0; run < runs; ++run) {
+            peers::FirstHitRun one = embree.cast_single();
+            peers::FirstHitRun four = embree.cast_packets();
+            single.push_back(static_cast<double>(one.rays) / one.seconds / 1e6);
+            packets.push_back(static_cast<double>(four.rays) / four.seconds / 1e6);
+            embree_hits = one.hits;
+        }
+        row.insert(row.end(), {cell("%.2f", median(single)), cell("%.2f", median(packets)),
+                               cell("%.2f", median(exact) / median(single)), cell("%.2f", median(exact) / median(packets)),
+                               std::to_string(static_cast<long long>(hits.hits) - static_cast<long long>(embree_hits))});
+    } catch (const std::runtime_error& error) {
+        row.insert(row.end(), {std::string("failed: ") + error.what(), "", "", "", ""});
+    }
+#else
+    row.insert(row.end(), {"not built", "", "", "", ""});
+#endif
+    report.first_hit.add_row(row);
+}
+
+// The generated sphere field: time per ray as the scene grows, at a resolution that shrinks with it.
+void bench_scaling(const BenchArguments& arguments, int all_threads, Report& report) {
+    const std::vector<Configuration> configurations = {
+        {"ref<double>", "reference", {}, 1},
+        {"ref<float>", "reference-float", {}, 1},
+        {"sse exact", "sse", {}, 1},
+        {"sse fast", "sse", all_fast_knobs(), 1},
+        {"sse exact " + std::to_string(all_threads) + "T", "sse", {}, all_threads},
+    };
+    report.scaling.headers = {"spheres", "image"};
+    for (const Configuration& configuration : configurations) {
+        report.scaling.headers.push_back(configuration.label + " ns/ray");
+    }
+    report.scaling.headers.push_back("sse first hit ns/ray");
+#if TWINRAY_WITH_EMBREE
+    report.scaling.headers.push_back("embree rtcIntersect1 ns/ray");
+#endif
+    const std::pair<int, int> family[] = {{10, 320}, {100, 320}, {1000, 160}, {10000, 80}};
+    for (auto [count, width] : family) {
+        scene::Scene scene = scene::sphere_field(count);
+        scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
+        std::vector<std::string> row = {std::to_string(count), std::to_string(size.width) + "x" + std::to_string(size.height)};
+        for (const Timings& timing : time_renders(configurations, scene, width, arguments.runs, nullptr)) {
+            row.push_back(cell("%.1f", 1e3 / median(timing.mrays)));
+        }
+        RenderOptions options;
+        options.width = width;
+        options.threads = 1;
+        std::vector<double> first_hit;
+        for (int run = 0; run < arguments.runs; ++run) {
+            auto start = std::chrono::steady_clock::now();
+            sse::FirstHits hits = sse::cast_primary_rays(scene, options);
+            first_hit.push_back(seconds_since(start) * 1e9 / static_cast<double>(hits.rays));
+        }
+        row.push_back(cell("%.1f", median(first_hit)));
+#if TWINRAY_WITH_EMBREE
+        peers::EmbreePeer embree(scene, width);
+        std::vector<double> single;
+        for (int run = 0; run < arguments.runs; ++run) {
+            peers::FirstHitRun one = embree.cast_single();
+            single.push_back(one.seconds * 1e9 / static_cast<double>(one.rays));
+        }
+        row.push_back(cell("%.1f", median(single)));
+#endif
+        report.scaling.add_row(row);
+        std::fputs(".", stderr);
+    }
+}
+
+std::vector<std::string> default_scenes() {
+    std::vector<std::string> paths;
+    if (fs::is_directory("scenes")) {
+        for (const auto& entry : fs::directory_iterator("scenes")) {
+            if (entry.path().extension() == ".json") {
+                paths.push_back(entry.path().string());
+            }
+        }
+    }
+    std::sort(paths.begin(), paths.end());
     return paths;
 }
 
+Report empty_report(int all_threads, const BenchArguments& arguments) {
+    std::string setting = "median of " + std::to_string(arguments.runs) + " runs, width " + std::to_string(arguments.width);
+    Report report;
+    report.trade.title = "Speed and accuracy against ref<double> per scene (" + setting +
+                         "; rays: primary, shadow, reflected, refracted)";
+    report.trade.headers = {"scene", "configuration", "Mrays/s", "min", "max", "speed-up", "img max err", "img RMS",
+                            "PSNR dB", "% px > 1/255", "t rel p50", "t rel p99.9", "t rel max", "normal max deg",
+                            "hit/miss per Mray", "other object per Mray"};
+    report.summary.title = "Every scene: geometric mean speed-up over ref<double> and the worst error of any scene";
+    report.summary.headers = {"configuration", "speed-up geomean", "speed-up min", "speed-up max", "img max err",
+                              "img RMS", "% px > 1/255", "t rel p99.9", "t rel max", "normal max deg", "hit/miss per Mray"};
+    report.povray.title = "POV-Ray 3.7 (no antialiasing, wall time per frame incl. start-up) against sse exact, " + setting;
+    report.povray.headers = {"scene", "povray +WT1 s", "povray +WT" + std::to_string(all_threads) + " s",
+                             "povray 1x1 px s", "sse 1T s", "sse " + std::to_string(all_threads) + "T s", "povray/sse 1T",
+                             "povray/sse " + std::to_string(all_threads) + "T", "(povray - 1x1)/sse 1T"};
+    report.first_hit.title = "First hits of primary rays only, one thread (Mrays/s), " + setting;
+    report.first_hit.headers = {"scene", "rays", "sse exact", "sse fast", "embree rtcIntersect1", "embree rtcIntersect4",
+                                "sse/embree1", "sse/embree4", "hits sse - embree"};
+    report.scaling.title = "Scaling: generated sphere fields, time per ray (ns, median of " + std::to_string(arguments.runs) +
+                           " runs; every ray for renders, primary rays for first hits)";
+    return report;
+}
+
+void write_outputs(const BenchArguments& arguments, const Report& report, const std::vector<const BenchTable*>& tables) {
+    if (!arguments.markdown_path.empty()) {
+        std::string text;
+        for (const BenchTable* table : tables) {
+            text += to_markdown(*table);
+        }
+        io::write_text_atomically(arguments.markdown_path, text);
+    }
+    if (!arguments.csv_path.empty()) {
+        // The trade table in FILE, the others beside it: FILE-summary.csv, FILE-povray.csv, ...
+        fs::path csv(arguments.csv_path);
+        io::write_text_atomically(csv, to_csv(report.trade));
+        auto beside = [&](const char* suffix) {
+            return csv.parent_path() / (csv.stem().string() + "-" + suffix + csv.extension().string());
+        };
+        io::write_text_atomically(beside("summary"), to_csv(report.summary));
+        if (!report.povray.rows.empty()) io::write_text_atomically(beside("povray"), to_csv(report.povray));
+        if (!report.first_hit.rows.empty()) io::write_text_atomically(beside("first-hit"), to_csv(report.first_hit));
+        if (!report.scaling.rows.empty()) io::write_text_atomically(beside("scaling"), to_csv(report.scaling));
+    }
+}
+
 int run_bench(const BenchArguments& arguments) {
-    std::vector<std::string> scene_paths = arguments.scenes.empty() ? default_scenes() : arguments.scenes;
-    int all_threads = resolve_thread_count(arguments.threads);
-    std::vector<Configuration> configurations = {
-        {"ref<double>", "reference", 1},
-        {"ref<float>", "reference-float", 1},
-        {"sse 1T", "sse", 1},
-        {"sse " + std::to_string(all_threads) + "T", "sse", all_threads},
-        // A control: how the plain scalar code scales on this machine, for reading the sse column.
-        {"ref " + std::to_string(all_threads) + "T", "reference", all_threads},
-    };
     if (std::string reason = tracer_unavailable_reason("sse"); !reason.empty()) {
         std::cerr << "twinray bench: " << reason << "\n";
         return exit_cpu_unsupported;
     }
-    std::printf("Mrays/s, median of %d runs at width %d; ratios are medians of per-run ratios\n\n", arguments.runs,
-                arguments.width);
-    std::printf("%-12s", "scene");
-    for (const Configuration& configuration : configurations) {
-        std::printf(" %12s", configuration.label.c_str());
+    std::vector<std::string> scene_paths = arguments.scenes.empty() ? default_scenes() : arguments.scenes;
+    if (scene_paths.empty()) {
+        std::cerr << "twinray bench: no scenes given and no scenes/*.json in the current folder\n";
+        return exit_usage;
     }
-    std::printf(" %12s %12s %12s %12s\n", "sse/double", "sse/float", "sse nT/1T", "ref nT/1T");
+    int all_threads = resolve_thread_count(arguments.threads);
+    std::vector<Configuration> configurations = trade_configurations(all_threads);
+    std::vector<std::pair<std::string, scene::Scene>> scenes;
     for (const std::string& path : scene_paths) {
-        scene::Scene scene;
         try {
-            scene = scene::load_scene(path);
+            scenes.emplace_back(fs::path(path).stem().string(), scene::load_scene(path));
         } catch (const scene::SceneError& error) {
             std::cerr << "twinray bench: invalid scene: " << error.what() << "\n";
             return exit_invalid_scene;
         }
-        // Configurations take turns within each run, and each ratio is the median of per-run ratios, so
-        // a slow spell of a shared machine weighs on both sides of a ratio instead of on one column.
-        std::vector<std::vector<double>> speeds(configurations.size());
-        std::vector<double> over_double, over_float, over_one_thread, reference_over_one_thread;
-        for (int run = 0; run < arguments.runs; ++run) {
-            std::vector<double> this_run;
-            for (const Configuration& configuration : configurations) {
-                this_run.push_back(mrays_of_one_render(configuration.tracer, scene, arguments.width, configuration.threads));
+    }
+    Report report = empty_report(all_threads, arguments);
+    std::vector<Summary> summaries(configurations.size());
+    std::optional<fs::path> povray = arguments.peers ? pov::find_povray() : std::nullopt;
+    for (const auto& [name, scene] : scenes) {
+        std::vector<double> sse_seconds;
+        bench_scene(name, scene, arguments, configurations, summaries, sse_seconds, report);
+        if (povray) {
+            try {
+                bench_povray(name, scene, arguments, *povray, all_threads, sse_seconds, report);
+            } catch (const pov::PovrayError& error) {
+                std::cerr << "twinray bench: POV-Ray failed on " << name << ", left out of its table: " << error.what() << "\n";
             }
-            for (std::size_t i = 0; i < configurations.size(); ++i) {
-                speeds[i].push_back(this_run[i]);
-            }
-            over_double.push_back(this_run[2] / this_run[0]);
-            over_float.push_back(this_run[2] / this_run[1]);
-            over_one_thread.push_back(this_run[3] / this_run[2]);
-            reference_over_one_thread.push_back(this_run[4] / this_run[0]);
         }
-        std::printf("%-12s", fs::path(path).stem().string().c_str());
-        for (const std::vector<double>& configuration_speeds : speeds) {
-            std::printf(" %12.2f", median(configuration_speeds));
+        if (arguments.peers) {
+            bench_first_hits(name, scene, arguments.width, arguments.runs, report);
         }
-        std::printf(" %11.2fx %11.2fx %11.2fx %11.2fx\n", median(over_double), median(over_float), median(over_one_thread),
-                    median(reference_over_one_thread));
-        std::fflush(stdout);
+        std::fputs(".", stderr);
+    }
+    add_summary(configurations, summaries, report);
+    if (arguments.scaling) {
+        bench_scaling(arguments, all_threads, report);
+    }
+    std::fputs("\n", stderr);
+    std::vector<const BenchTable*> tables = {&report.trade, &report.summary};
+    if (!report.povray.rows.empty()) tables.push_back(&report.povray);
+    if (!report.first_hit.rows.empty()) tables.push_back(&report.first_hit);
+    if (!report.scaling.rows.empty()) tables.push_back(&report.scaling);
+    for (const BenchTable* table : tables) {
+        std::fputs(to_console(*table).c_str(), stdout);
+    }
+    if (arguments.peers && !povray) {
+        std::puts("POV-Ray: not installed (no povray on PATH), so no POV-Ray table.");
+    }
+    try {
+        write_outputs(arguments, report, tables);
+    } catch (const io::FileWriteError& error) {
+        std::cerr << "twinray bench: " << error.what() << "\n";
+        return exit_output_error;
     }
     return exit_success;
 }
@@ -119,18 +451,25 @@ int run_bench(const BenchArguments& arguments) {
 void add_bench_command(CLI::App& app, std::function<int()>& run) {
     auto arguments = std::make_shared<BenchArguments>();
     CLI::App* command = app.add_subcommand(
-        "bench", "Measure Mrays/s of reference<double>, reference<float> and sse (1 thread and all) side by side");
-    command->add_option("scenes", arguments->scenes,
-                        "Scene files (default: scenes/{planes,spheres,cylinders,complete1,complete2,csg}.json)");
-    command->add_option("--runs", arguments->runs, "Runs; each renders every configuration once, and medians are reported")
+        "bench",
+        "Speed against accuracy: every tracer and precision knob on each scene, against reference<double>, POV-Ray "
+        "and Embree");
+    command->add_option("scenes", arguments->scenes, "Scene files (default: every scenes/*.json)");
+    command->add_option("--runs", arguments->runs, "Runs; each renders every configuration once; medians are reported")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
     command->add_option("--width", arguments->width,
                         "Render width; the height keeps each scene's aspect (long enough renders to time well)")
         ->check(CLI::Range(1, 16384))
         ->capture_default_str();
-    command->add_option("--threads", arguments->threads, "Threads of the multi-threaded column (default: all cores)")
+    command->add_option("--threads", arguments->threads, "Threads of the multi-threaded columns (default: all cores)")
         ->check(CLI::Range(1, 1024));
+    command->add_flag("--scaling", arguments->scaling,
+                      "Also time generated sphere fields of 10, 100, 1000 and 10000 spheres (about a minute)");
+    command->add_flag("!--no-peers", arguments->peers, "Leave out POV-Ray and the first-hit table (Embree)");
+    command->add_option("--csv", arguments->csv_path,
+                        "Write the table as CSV to FILE, and the other tables beside it (FILE-summary.csv, ...)");
+    command->add_option("--markdown", arguments->markdown_path, "Write every table as Markdown to FILE");
     command->callback([arguments, &run] { run = [arguments] { return run_bench(*arguments); }; });
 }
 

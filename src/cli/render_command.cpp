@@ -61,6 +61,7 @@ struct RenderArguments {
     int height = 0;
     std::string tracer = default_tracer;
     int threads = 0;
+    sse::Precision precision;
 };
 
 // Refuse an output we could not write before spending time on the render.
@@ -103,6 +104,10 @@ int run_render(const RenderArguments& arguments) {
         std::cerr << "twinray render: " << reason << "\n";
         return exit_cpu_unsupported;
     }
+    if (std::string problem = precision_problem(arguments.tracer, arguments.precision); !problem.empty()) {
+        std::cerr << "twinray render: " << problem << "\n";
+        return exit_usage;
+    }
     scene::Scene scene;
     try {
         scene = scene::load_scene(arguments.scene_path);
@@ -137,7 +142,7 @@ int run_render(const RenderArguments& arguments) {
     };
     std::optional<RenderResult> rendered;
     try {
-        rendered.emplace(render_with(arguments.tracer, scene, options));
+        rendered.emplace(render_with(arguments.tracer, scene, options, arguments.precision));
         // A Ctrl-C after the last item but before the write still means "stop": nothing is written.
         if (interrupted.load(std::memory_order_relaxed)) {
             throw RenderCancelled();
@@ -158,6 +163,9 @@ int run_render(const RenderArguments& arguments) {
     }
     std::printf("scene:       %s\n", arguments.scene_path.c_str());
     std::printf("tracer:      %s (%d thread%s)\n", arguments.tracer.c_str(), options.threads, options.threads == 1 ? "" : "s");
+    if (arguments.tracer == "sse") {
+        std::printf("precision:   %s\n", sse::precision_name(arguments.precision).c_str());
+    }
     std::printf("resolution:  %d x %d\n", result.image.width(), result.image.height());
     std::printf("rays traced: %llu\n", static_cast<unsigned long long>(result.rays));
     std::printf("wall time:   %.3f s\n", seconds);
@@ -187,6 +195,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
         ->capture_default_str();
     command->add_option("--threads", arguments->threads, "Worker threads (default: all cores); the image is identical for any count")
         ->check(CLI::Range(1, 1024));
+    add_precision_options(*command, arguments->precision);
     command->callback([arguments, &run] { run = [arguments] { return run_render(*arguments); }; });
 }
 

@@ -13,14 +13,26 @@ namespace {
 
 struct TracerEntry {
     std::string description;
-    std::function<RenderResult(const scene::Scene&, const RenderOptions&)> render;
+    std::function<RenderResult(const scene::Scene&, const RenderOptions&, const sse::Precision&)> render;
 };
 
 const std::map<std::string, TracerEntry>& registry() {
     static const std::map<std::string, TracerEntry> tracers = {
-        {"reference", {"scalar double-precision reference (the oracle)", reference::render<double>}},
-        {"reference-float", {"the reference's code in single precision", reference::render<float>}},
-        {"sse", {"single-precision SSE4.1 tracer, the fast one", sse::render}},
+        {"reference",
+         {"scalar double-precision reference (the oracle)",
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&) {
+              return reference::render<double>(scene, options);
+          }}},
+        {"reference-float",
+         {"the reference's code in single precision",
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&) {
+              return reference::render<float>(scene, options);
+          }}},
+        {"sse",
+         {"single-precision SSE4.1 tracer, the fast one",
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision& precision) {
+              return sse::render(scene, options, precision);
+          }}},
     };
     return tracers;
 }
@@ -49,12 +61,51 @@ std::string tracer_unavailable_reason(const std::string& name) {
     return "";
 }
 
-RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options) {
+RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
+                         const sse::Precision& precision) {
     auto entry = registry().find(tracer_name);
     if (entry == registry().end()) {
         throw std::invalid_argument("unknown tracer \"" + tracer_name + "\"");
     }
-    return entry->second.render(scene, options);
+    if (std::string problem = precision_problem(tracer_name, precision); !problem.empty()) {
+        throw std::invalid_argument(problem);
+    }
+    return entry->second.render(scene, options, precision);
+}
+
+void add_precision_options(CLI::App& command, sse::Precision& precision) {
+    command.add_flag("--fast-rcp", precision.fast_rcp, "sse: divisions by _mm_rcp_ps + one Newton step");
+    command.add_flag("--fast-rsqrt", precision.fast_rsqrt, "sse: normalisation by _mm_rsqrt_ps + one Newton step");
+    command.add_flag("--dpps", precision.dpps, "sse: dot products transposed to AoS and _mm_dp_ps (the thesis's way)");
+    command.add_flag("--textbook-quadratic", precision.textbook_quadratic,
+                     "sse: textbook quadratic b^2 - ac instead of the cancellation-free form");
+    command.add_flag("--ftz", precision.flush_denormals, "sse: flush denormals to zero (MXCSR FTZ and DAZ)");
+    command
+        .add_option_function<std::string>(
+            "--precision",
+            [&precision](const std::string& preset) {
+                bool fast = preset == "fast";
+                precision.fast_rcp = precision.fast_rcp || fast;
+                precision.fast_rsqrt = precision.fast_rsqrt || fast;
+                precision.textbook_quadratic = precision.textbook_quadratic || fast;
+                precision.flush_denormals = precision.flush_denormals || fast;
+            },
+            "sse: a preset: exact (the default) or fast (--fast-rcp --fast-rsqrt --textbook-quadratic --ftz)")
+        ->check(CLI::IsMember({"exact", "fast"}));
+}
+
+std::string precision_problem(const std::string& tracer_name, const sse::Precision& precision) {
+    if (precision == sse::Precision{}) {
+        return "";
+    }
+    if (tracer_name != "sse") {
+        return "precision knobs (" + sse::precision_name(precision) + ") apply to --tracer sse only";
+    }
+    if (!sse::precision_is_built(precision)) {
+        return "the SSE tracer is not built for the knobs " + sse::precision_name(precision) +
+               "; built: " + sse::built_precisions();
+    }
+    return "";
 }
 
 }  // namespace twinray::cli

@@ -3,6 +3,9 @@
 
 #include "render/render.h"
 #include "scene/scene.h"
+#include "sse/tracer.h"
+
+#include <CLI/CLI.hpp>
 
 #include <string>
 #include <vector>
@@ -14,6 +17,14 @@ std::string tracer_description(const std::string& name);
 // Empty when the tracer can run on this machine, else why not (the SSE tracer needs SSE4.1).
 std::string tracer_unavailable_reason(const std::string& name);
 inline const char* default_tracer = "sse";
-RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options);
+// `precision` applies to the SSE tracer only; knobs asked of another tracer are refused
+// (std::invalid_argument), as are knob combinations the SSE tracer is not built for.
+RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
+                         const sse::Precision& precision = {});
+
+// --fast-rcp, --fast-rsqrt, --dpps, --textbook-quadratic, --ftz and the preset --precision exact|fast.
+void add_precision_options(CLI::App& command, sse::Precision& precision);
+// Empty when `precision` can be used with the tracer, else why not (for a usage error).
+std::string precision_problem(const std::string& tracer_name, const sse::Precision& precision);
 
 }  // namespace twinray::cli

@@ -44,7 +44,7 @@ std::optional<fs::path> find_povray() {
 }
 
 Image render_with_povray(const fs::path& povray, const fs::path& folder, const std::string& name, const std::string& pov_text,
-                         int width, int height) {
+                         int width, int height, int threads) {
     fs::path scene = folder / (name + ".pov");
     fs::path image = folder / (name + ".png");
     fs::path log = folder / (name + ".log");
@@ -53,7 +53,7 @@ Image render_with_povray(const fs::path& povray, const fs::path& folder, const s
     std::ofstream(ini).flush();
     std::string command = "cd " + quoted(folder) + " && POVINI=" + quoted(ini) + " " + quoted(povray) + " +I" +
                           quoted(scene) + " +O" + quoted(image) + " +W" + std::to_string(width) + " +H" +
-                          std::to_string(height) + " -D -A -UA +FN8 File_Gamma=1.0 +WT1 -GS -GR -GD > " + quoted(log) +
+                          std::to_string(height) + " -D -A -UA +FN8 File_Gamma=1.0 +WT" + std::to_string(threads) + " -GS -GR -GD > " + quoted(log) +
                           " 2>&1";
     int status = std::system(command.c_str());
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::exists(image)) {

@@ -19,6 +19,7 @@ constexpr int box_face(int axis, bool positive) { return 2 * axis + (positive ? 
 // smallest far. Slabs multiply by the packet's reciprocal direction (RayPacket::compute_inverse_direction).
 // Lanes whose ray is parallel to an axis are inside that slab everywhere or nowhere (the product there
 // is ±∞ or NaN, which the select discards).
+template <typename P>
 TWINRAY_KERNEL Span4 spans(const BoxF& box, const RayPacket& rays) {
     vfloat4 zero(0.0f);
     Span4 span;

@@ -3,6 +3,7 @@
 // gets the same answer alone (the per-ray API) as inside any packet (render).
 #pragma once
 
+#include "sse/precision.h"
 #include "sse/simd.h"
 #include "sse/tracer.h"
 
@@ -16,7 +17,7 @@ constexpr float infinity = std::numeric_limits<float>::infinity();
 struct RayPacket {
     vfloat4 origin[3];
     vfloat4 direction[3];  // unit length
-    vfloat4 inverse_direction[3];  // 1/d, IEEE division; filled only for scenes that test boxes
+    vfloat4 inverse_direction[3];  // 1/d (reciprocal<P>); filled only for scenes that test boxes
     vbool4 active;         // lanes that carry a ray; the others hold a copy of an active ray
 
     // Lane i traces rays[i]; lanes where `active` is false repeat rays[first active lane].
@@ -46,9 +47,10 @@ struct RayPacket {
 
     // Three divisions per packet, shared by the two slabs of every box the rays meet: the thesis's rule
     // of one reciprocal where several numerators share a denominator (one extra rounding in t).
+    template <typename P>
     void compute_inverse_direction() {
         for (int axis = 0; axis < 3; ++axis) {
-            inverse_direction[axis] = vfloat4(1.0f) / direction[axis];
+            inverse_direction[axis] = reciprocal<P>(direction[axis]);
         }
     }
 };
@@ -61,7 +63,5 @@ struct Span4 {
     vint4 enter_face, exit_face;
     vbool4 valid;
 };
-
-inline vfloat4 dot3(const vfloat4 a[3], const vfloat4 b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 }  // namespace twinray::sse

@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 // Why packets of four rays (one ray per lane, each primitive broadcast) and not one ray against four
 // primitives (one primitive per lane): both run the same intersection formulas, and we measured both
@@ -38,13 +40,21 @@ inline Vec4 operator-(const Vec4& a, const Vec4& b) { return {a.x - b.x, a.y - b
 inline Vec4 operator*(vfloat4 s, const Vec4& a) { return {s * a.x, s * a.y, s * a.z}; }
 inline Vec4 operator*(const Vec4& a, const Vec4& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 inline Vec4 operator-(const Vec4& a) { return {-a.x, -a.y, -a.z}; }
-inline vfloat4 dot(const Vec4& a, const Vec4& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <typename P>
+inline vfloat4 dot(const Vec4& a, const Vec4& b) {
+    const vfloat4 left[3] = {a.x, a.y, a.z}, right[3] = {b.x, b.y, b.z};
+    return dot3<P>(left, right);
+}
+// Where only a sign is needed (spawn_origin's side of the surface), whatever the knobs.
+inline vfloat4 dot(const Vec4& a, const Vec4& b) { return dot<ExactKernels>(a, b); }
 inline Vec4 broadcast(Vec3 v) { return {vfloat4(v.x), vfloat4(v.y), vfloat4(v.z)}; }
 inline Vec4 select(vbool4 mask, const Vec4& a, const Vec4& b) {
     return {select(mask, a.x, b.x), select(mask, a.y, b.y), select(mask, a.z, b.z)};
 }
-// As the scalar normalize: one IEEE division shared by the three components.
-inline Vec4 normalize(const Vec4& a) { return (vfloat4(1.0f) / sqrt(dot(a, a))) * a; }
+// 1/|a| by the knobs' inverse_sqrt; exact, as the scalar normalize: one IEEE division shared by the
+// three components.
+template <typename P>
+inline Vec4 normalize(const Vec4& a) { return inverse_sqrt<P>(dot<P>(a, a)) * a; }
 
 using Color4 = Vec4;
 
@@ -73,10 +83,10 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
 
 // Primitives that no ray of the packet meets are skipped before any use of their span: in a coherent
 // packet that is most of them.
-template <typename Primitive, typename Visit>
+template <typename P, typename Primitive, typename Visit>
 void for_each_primitive(const PrimitiveList<Primitive>& list, const RayPacket& rays, Visit&& visit) {
     for (std::size_t i = 0; i < list.items.size(); ++i) {
-        Span4 span = spans(list.items[i], rays);
+        Span4 span = spans<P>(list.items[i], rays);
         if (any(span.valid)) {
             visit(span, list.ids[i], list.transmission[i]);
         }
@@ -84,21 +94,22 @@ void for_each_primitive(const PrimitiveList<Primitive>& list, const RayPacket& r
 }
 
 // Calls visit(span, id, transmission) for every primitive of every type present that some ray meets.
-template <typename Visit>
+template <typename P, typename Visit>
 void for_each_span(const PrimitiveLists& lists, const RayPacket& rays, Visit&& visit) {
-    for_each_primitive(lists.planes, rays, visit);
-    for_each_primitive(lists.spheres, rays, visit);
-    for_each_primitive(lists.cylinders, rays, visit);
-    for_each_primitive(lists.boxes, rays, visit);
+    for_each_primitive<P>(lists.planes, rays, visit);
+    for_each_primitive<P>(lists.spheres, rays, visit);
+    for_each_primitive<P>(lists.cylinders, rays, visit);
+    for_each_primitive<P>(lists.boxes, rays, visit);
 }
 
 // A CSG object's span list for one lane of a packet: every leaf's span computed for the whole packet
 // (four rays per instruction), then the tree folded bottom-up per ray in stack arrays.
+template <typename P>
 class CsgEvaluation {
 public:
     CsgEvaluation(const CsgObject& object, const RayPacket& rays) : object_(object) {
         std::fill(valid_, valid_ + object.slot_leaf.size(), 0);  // leaves no ray meets are not visited
-        for_each_span(object.leaves, rays, [&](const Span4& span, std::int32_t slot, float) {
+        for_each_span<P>(object.leaves, rays, [&](const Span4& span, std::int32_t slot, float) {
             span.enter.store(enter_[slot]);
             span.exit.store(exit_[slot]);
             span.enter_face.store(enter_face_[slot]);
@@ -148,8 +159,9 @@ private:
 };
 
 // The lanes whose ray meets the object's bound somewhere in (0, limit).
+template <typename P>
 inline int lanes_meeting_bound(const CsgObject& object, const RayPacket& rays, vfloat4 limit) {
-    Span4 span = spans(object.bound, rays);
+    Span4 span = spans<P>(object.bound, rays);
     return movemask(rays.active & span.valid & (span.exit > vfloat4(0.0f)) & (span.enter < limit));
 }
 
@@ -288,6 +300,7 @@ inline Vec3d lane0(const Vec4& v) {
 }
 
 // Lane 0's light: facing away (not in `lit`: no shadow ray), else its shadow ray and transmittance.
+template <typename P>
 [[gnu::cold]] void record_light(RayTree& tree, int node, vfloat4 lambert, vbool4 lit, const Vec4& shadow_origin,
                                 Vec3 light_position, vfloat4 transmittance) {
     if (node < 0) {
@@ -298,7 +311,7 @@ inline Vec3d lane0(const Vec4& v) {
         light.faces_away = false;
         light.transmittance = static_cast<double>(transmittance.lane(0));
         light.shadow_origin = lane0(shadow_origin);
-        light.shadow_direction = lane0(normalize(broadcast(light_position) - shadow_origin));
+        light.shadow_direction = lane0(normalize<P>(broadcast(light_position) - shadow_origin));
     }
     tree.nodes[static_cast<std::size_t>(node)].lights.push_back(light);
 }
@@ -326,6 +339,7 @@ inline Vec3d lane0(const Vec4& v) {
     }
 }
 
+template <typename P>
 class PacketTracer {
 public:
     explicit PacketTracer(const CompiledScene& scene) : scene_(scene) {}
@@ -334,10 +348,10 @@ public:
     // ones a tile can see (TileCulling).
     Hit4 intersect(RayPacket& rays, const PrimitiveLists& candidates) const {
         if (scene_.any_box_test) {
-            rays.compute_inverse_direction();
+            rays.template compute_inverse_direction<P>();
         }
         Nearest4 nearest;
-        for_each_span(candidates, rays, [&](const Span4& span, std::int32_t leaf, float) {
+        for_each_span<P>(candidates, rays, [&](const Span4& span, std::int32_t leaf, float) {
             keep_nearest(nearest, span, leaf);
         });
         if (!scene_.csg_objects.empty()) {
@@ -382,11 +396,11 @@ private:
         nearest.leaf.store(leaf);
         nearest.tag.store(tag);
         for (const CsgObject& object : scene_.csg_objects) {
-            int lanes = lanes_meeting_bound(object, rays, vfloat4::load(t));
+            int lanes = lanes_meeting_bound<P>(object, rays, vfloat4::load(t));
             if (lanes == 0) {
                 continue;
             }
-            CsgEvaluation evaluation(object, rays);
+            CsgEvaluation<P> evaluation(object, rays);
             for (int lane = 0; lane < 4; ++lane) {
                 if (((lanes >> lane) & 1) == 0) {
                     continue;
@@ -459,18 +473,18 @@ private:
         if (any(normalize_lanes)) {
             // As the reference's radial_normal: a radial vector of exactly zero (a primitive smaller than
             // the ulp where it stands) has no direction; the ray's reverse stands in for it, not a NaN.
-            vbool4 degenerate = dot(outward, outward) == vfloat4(0.0f);
-            outward = select(normalize_lanes, normalize(select(degenerate, -direction, outward)), outward);
+            vbool4 degenerate = dot<P>(outward, outward) == vfloat4(0.0f);
+            outward = select(normalize_lanes, normalize<P>(select(degenerate, -direction, outward)), outward);
         }
         // Re-projected onto the surface where measurably off it: p is |n̂·(p − anchor)| from the anchor
         // along n̂ and p' is |radius| (0 on flat faces, whose anchor is p' itself).
         Vec4 anchors{vfloat4::load(anchor[0]), vfloat4::load(anchor[1]), vfloat4::load(anchor[2])};
         vfloat4 radii = vfloat4::load(radius);
-        vfloat4 off_surface = abs(abs(dot(outward, hit.point - anchors)) - abs(radii));
+        vfloat4 off_surface = abs(abs(dot<P>(outward, hit.point - anchors)) - abs(radii));
         hit.point = select(off_surface > vfloat4::load(own_rounding), anchors + radii * outward, hit.point);
         vfloat4 largest = max(abs(hit.point.x), max(abs(hit.point.y), abs(hit.point.z)));
         hit.spawn_offset = vfloat4::load(size_bound) + vfloat4::load(point_factor) * largest;
-        hit.normal = select(dot(outward, direction) > vfloat4(0.0f), -outward, outward);
+        hit.normal = select(dot<P>(outward, direction) > vfloat4(0.0f), -outward, outward);
         return hit;
     }
 
@@ -500,13 +514,15 @@ private:
     // light; lanes outside `lanes` get 0.
     vfloat4 shadow_transmittance(const Vec4& origin, Vec3 light_position, vbool4 lanes) const {
         Vec4 to_light = broadcast(light_position) - origin;
-        vfloat4 distance = sqrt(dot(to_light, to_light));
-        Vec4 direction = (vfloat4(1.0f) / distance) * to_light;
+        vfloat4 squared_distance = dot<P>(to_light, to_light);
+        vfloat4 inverse_distance = inverse_sqrt<P>(squared_distance);
+        vfloat4 distance = P::fast_rsqrt ? squared_distance * inverse_distance : sqrt(squared_distance);
+        Vec4 direction = inverse_distance * to_light;
         const vfloat4 origins[3] = {origin.x, origin.y, origin.z};
         const vfloat4 directions[3] = {direction.x, direction.y, direction.z};
         RayPacket rays(origins, directions, lanes);
         if (scene_.any_box_test) {
-            rays.compute_inverse_direction();
+            rays.template compute_inverse_direction<P>();
         }
         vfloat4 zero(0.0f), one(1.0f);
         vfloat4 transmittance = select(lanes, one, zero);
@@ -516,7 +532,7 @@ private:
             exit_between = span.valid & (span.exit > zero) & (span.exit < distance);
         };
         if (!scene_.any_transparency) {
-            for_each_span(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float) {
+            for_each_span<P>(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float) {
                 if (none(open)) {
                     return;
                 }
@@ -525,7 +541,7 @@ private:
                 open = open & !(enter_between | exit_between);
             });
         } else {
-            for_each_span(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float transmission) {
+            for_each_span<P>(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float transmission) {
                 vbool4 enter_between, exit_between;
                 crossings_between(span, enter_between, exit_between);
                 vfloat4 surface(transmission);
@@ -540,11 +556,11 @@ private:
         alignas(16) float product[4];
         transmittance.store(product);
         for (const CsgObject& object : scene_.csg_objects) {
-            int met = lanes_meeting_bound(object, rays, distance) & movemask(open);
+            int met = lanes_meeting_bound<P>(object, rays, distance) & movemask(open);
             if (met == 0) {
                 continue;
             }
-            CsgEvaluation evaluation(object, rays);
+            CsgEvaluation<P> evaluation(object, rays);
             alignas(16) float limit[4];
             distance.store(limit);
             for (int lane = 0; lane < 4; ++lane) {
@@ -593,11 +609,11 @@ private:
         vfloat4 zero(0.0f);
         Vec4 direction{rays.direction[0], rays.direction[1], rays.direction[2]};
         Color4 color = m.ambient * (m.color * broadcast(scene_.ambient_light));
-        Vec4 mirror = direction - (vfloat4(2.0f) * dot(direction, hit.normal)) * hit.normal;
+        Vec4 mirror = direction - (vfloat4(2.0f) * dot<P>(direction, hit.normal)) * hit.normal;
         vbool4 has_phong = hit.hit & (m.phong > zero);
         for (const LightF& light : scene_.lights) {
-            Vec4 to_light = normalize(broadcast(light.position) - hit.point);
-            vfloat4 lambert = dot(hit.normal, to_light);
+            Vec4 to_light = normalize<P>(broadcast(light.position) - hit.point);
+            vfloat4 lambert = dot<P>(hit.normal, to_light);
             vbool4 lit = hit.hit & (lambert > zero);
             if (none(lit)) {
                 if (tree != nullptr) {
@@ -608,7 +624,7 @@ private:
             ray_count += lane_count(lit);
             vfloat4 shadow = shadow_transmittance(spawn_origin(hit, to_light), light.position, lit);
             if (tree != nullptr) {
-                record_light(*tree, node, lambert, lit, spawn_origin(hit, to_light), light.position, shadow);
+                record_light<P>(*tree, node, lambert, lit, spawn_origin(hit, to_light), light.position, shadow);
             }
             vbool4 reached = lit & (shadow > zero);
             if (none(reached)) {
@@ -618,7 +634,7 @@ private:
             Color4 diffuse = (m.diffuse * lambert) * (m.color * light_color);
             vfloat4 highlight = zero;
             if (any(has_phong & reached)) {
-                highlight = m.phong * phong_power(dot(mirror, to_light), m.phong_size, has_phong & reached);
+                highlight = m.phong * phong_power(dot<P>(mirror, to_light), m.phong_size, has_phong & reached);
             }
             color = select(reached, color + shadow * (diffuse + highlight * light_color), color);
         }
@@ -631,15 +647,15 @@ private:
         vfloat4 reflection = select(hit.hit, m.reflection, zero);
         vbool4 transparent = hit.hit & (m.transmission > zero);
         if (scene_.any_transparency && any(transparent)) {
-            vfloat4 eta = select(hit.entering, vfloat4(1.0f) / m.ior, m.ior);
-            vfloat4 cos_incident = -dot(direction, hit.normal);
+            vfloat4 eta = select(hit.entering, reciprocal<P>(m.ior), m.ior);
+            vfloat4 cos_incident = -dot<P>(direction, hit.normal);
             vfloat4 sin2_transmitted = eta * eta * (vfloat4(1.0f) - cos_incident * cos_incident);
             vbool4 total_internal = transparent & (sin2_transmitted > vfloat4(1.0f));
             vbool4 refracting = transparent & !total_internal;
             reflection = reflection + select(total_internal, m.transmission, zero);
             if (any(refracting)) {
                 vfloat4 cos_transmitted = sqrt(max(vfloat4(1.0f) - sin2_transmitted, zero));
-                Vec4 refracted = normalize(eta * direction + (eta * cos_incident - cos_transmitted) * hit.normal);
+                Vec4 refracted = normalize<P>(eta * direction + (eta * cos_incident - cos_transmitted) * hit.normal);
                 color = color + select(refracting, m.transmission, zero) *
                                     trace_secondary(hit, refracted, refracting, depth, ray_count, tree,
                                                     RayKind::refracted, node);
@@ -691,12 +707,13 @@ struct CameraPacket {
 
     // The 2 × 2 pixels whose top-left is (x, y): lane i is pixel (x + i % 2, y + i / 2). Every lane is
     // computed alone, so a pixel's ray is the same in any packet.
+    template <typename P>
     RayPacket rays(int x, int y, vbool4 active) const {
         vfloat4 px = vfloat4(static_cast<float>(x)) + vfloat4(_mm_setr_ps(0.5f, 1.5f, 0.5f, 1.5f));
         vfloat4 py = vfloat4(static_cast<float>(y)) + vfloat4(_mm_setr_ps(0.5f, 0.5f, 1.5f, 1.5f));
         vfloat4 u = (px * u_per_pixel - vfloat4(1.0f)) * half_width;
         vfloat4 v = (vfloat4(1.0f) - py * v_per_pixel) * half_height;
-        Vec4 direction = normalize(forward + u * right + v * up);
+        Vec4 direction = normalize<P>(forward + u * right + v * up);
         const vfloat4 origins[3] = {eye.x, eye.y, eye.z};
         const vfloat4 directions[3] = {direction.x, direction.y, direction.z};
         return RayPacket(origins, directions, active);
@@ -776,9 +793,99 @@ private:
     int width_, height_;
 };
 
+constexpr int tile = 16;
+
+// Hands out the image's 16 × 16 tiles to the worker threads and calls
+// work(x0, y0, x1, y1, visible) for the pixels [x0, x1) × [y0, y1) with the primitives the tile can see
+// (TileCulling); sums what it returns. The denormal mode is set per tile, on whichever thread runs it,
+// and restored after: the workers are the shared render loop's, and the calling thread is one of them.
+template <typename TileWork>
+std::uint64_t for_each_tile(const CompiledScene& scene, scene::ImageSize size, const RenderOptions& options,
+                            bool flush_denormals, TileWork&& work) {
+    TileCulling culling(scene, size.width, size.height);
+    int tiles_x = (size.width + tile - 1) / tile;
+    int tiles_y = (size.height + tile - 1) / tile;
+    return parallel_for(
+        tiles_x * tiles_y, options.threads,
+        [&](int index) {
+            ScopedFlushDenormals denormals(flush_denormals);
+            int x0 = (index % tiles_x) * tile;
+            int y0 = (index / tiles_x) * tile;
+            int x1 = std::min(x0 + tile, size.width);
+            int y1 = std::min(y0 + tile, size.height);
+            thread_local PrimitiveLists visible;
+            culling.select(x0, y0, x1, y1, visible);
+            return work(x0, y0, x1, y1, static_cast<const PrimitiveLists&>(visible));
+        },
+        options.progress, options.cancel);
+}
+
+// Calls per_packet(x, y, active) for each 2 × 2 packet of the pixels [x0, x1) × [y0, y1), (x, y) its
+// top-left pixel; lanes past the edge are inactive.
+template <typename PerPacket>
+void for_each_packet(int x0, int y0, int x1, int y1, PerPacket&& per_packet) {
+    for (int y = y0; y < y1; y += 2) {
+        for (int x = x0; x < x1; x += 2) {
+            vbool4 active{_mm_castsi128_ps(
+                _mm_setr_epi32(-1, x + 1 < x1 ? -1 : 0, y + 1 < y1 ? -1 : 0, x + 1 < x1 && y + 1 < y1 ? -1 : 0))};
+            per_packet(x, y, active);
+        }
+    }
+}
+
+int knob_bits(const Precision& precision) {
+    return (precision.fast_rcp ? 1 : 0) | (precision.fast_rsqrt ? 2 : 0) | (precision.dpps ? 4 : 0) |
+           (precision.textbook_quadratic ? 8 : 0);
+}
+
+// The kernels compiled in, one instantiation each: exact, each knob alone, and the three that buy speed
+// together (rcp, rsqrt, textbook; dpps costs time in a packet tracer, docs/performance.md). Calls
+// visit(policy) with the policy type of `precision`'s knobs; every other combination is refused.
+template <typename Visit>
+decltype(auto) with_kernels(const Precision& precision, Visit&& visit) {
+    switch (knob_bits(precision)) {
+        case 0: return visit(ExactKernels{});
+        case 1: return visit(Kernels<true, false, false, false>{});
+        case 2: return visit(Kernels<false, true, false, false>{});
+        case 4: return visit(Kernels<false, false, true, false>{});
+        case 8: return visit(Kernels<false, false, false, true>{});
+        case 11: return visit(Kernels<true, true, false, true>{});
+        default:
+            throw std::invalid_argument("the SSE tracer is not built for the knobs " + precision_name(precision) +
+                                        "; built: " + built_precisions());
+    }
+}
+
 }  // namespace
 
-Tracer::Tracer(const scene::Scene& scene) : scene_(std::make_unique<CompiledScene>(compile(scene))) {}
+bool precision_is_built(const Precision& precision) {
+    int knobs = knob_bits(precision);
+    return knobs == 0 || knobs == 1 || knobs == 2 || knobs == 4 || knobs == 8 || knobs == 11;
+}
+
+std::string built_precisions() {
+    return "exact, rcp, rsqrt, dpps, textbook, rcp+rsqrt+textbook (each also with ftz)";
+}
+
+std::string precision_name(const Precision& precision) {
+    std::string name;
+    auto add = [&](bool on, const char* knob) {
+        if (on) {
+            name += (name.empty() ? "" : "+") + std::string(knob);
+        }
+    };
+    add(precision.fast_rcp, "rcp");
+    add(precision.fast_rsqrt, "rsqrt");
+    add(precision.dpps, "dpps");
+    add(precision.textbook_quadratic, "textbook");
+    add(precision.flush_denormals, "ftz");
+    return name.empty() ? "exact" : name;
+}
+
+Tracer::Tracer(const scene::Scene& scene, const Precision& precision)
+    : scene_(std::make_unique<CompiledScene>(compile(scene))), precision_(precision) {
+    with_kernels(precision, [](auto) {});  // refuses a combination that is not built
+}
 
 Tracer::~Tracer() = default;
 
@@ -794,8 +901,11 @@ std::optional<Hit> Tracer::intersect(const Ray& ray) const {
     if (!is_traceable(ray)) {
         return std::nullopt;
     }
-    RayPacket rays = single_ray_packet(ray);
-    Hit4 hit4 = PacketTracer(*scene_).intersect(rays);
+    ScopedFlushDenormals denormals(precision_.flush_denormals);
+    Hit4 hit4 = with_kernels(precision_, [&](auto kernels) {
+        RayPacket rays = single_ray_packet(ray);
+        return PacketTracer<decltype(kernels)>(*scene_).intersect(rays);
+    });
     if (!(movemask(hit4.hit) & 1)) {
         return std::nullopt;
     }
@@ -815,9 +925,12 @@ Color Tracer::trace(const Ray& ray, int depth, std::uint64_t* rays, RayTree* tre
     if (!is_traceable(ray)) {
         return scene_->background;
     }
-    RayPacket packet = single_ray_packet(ray);
+    ScopedFlushDenormals denormals(precision_.flush_denormals);
     std::uint64_t count = 0;
-    Color4 color = PacketTracer(*scene_).trace(packet, depth, count, tree);
+    Color4 color = with_kernels(precision_, [&](auto kernels) {
+        RayPacket packet = single_ray_packet(ray);
+        return PacketTracer<decltype(kernels)>(*scene_).trace(packet, depth, count, tree);
+    });
     if (rays != nullptr) {
         *rays += count;
     }
@@ -825,7 +938,10 @@ Color Tracer::trace(const Ray& ray, int depth, std::uint64_t* rays, RayTree* tre
 }
 
 Ray Tracer::primary_ray(int x, int y, int width, int height) const {
-    RayPacket packet = CameraPacket(*scene_, width, height).rays(x, y, vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))});
+    RayPacket packet = with_kernels(precision_, [&](auto kernels) {
+        return CameraPacket(*scene_, width, height)
+            .template rays<decltype(kernels)>(x, y, vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))});
+    });
     return {{packet.origin[0].lane(0), packet.origin[1].lane(0), packet.origin[2].lane(0)},
             {packet.direction[0].lane(0), packet.direction[1].lane(0), packet.direction[2].lane(0)}};
 }
@@ -836,50 +952,59 @@ Ray Tracer::primary_ray(int x, int y, int width, int height) const {
 // rendered into a buffer of its own and copied into the image row by row when done: consecutive tiles
 // run on different threads and share cache lines at their borders, which per-pixel writes would pass
 // back and forth between the cores.
-RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
-    constexpr int tile = 16;
+RenderResult render(const scene::Scene& scene, const RenderOptions& options) { return render(scene, options, {}); }
+
+RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer tracer(scene);
-    PacketTracer packets(tracer.compiled());
-    CameraPacket camera(tracer.compiled(), size.width, size.height);
-    TileCulling culling(tracer.compiled(), size.width, size.height);
+    Tracer tracer(scene, precision);
     Image image(size.width, size.height);
-    int tiles_x = (size.width + tile - 1) / tile;
-    int tiles_y = (size.height + tile - 1) / tile;
-    std::uint64_t ray_count = parallel_for(
-        tiles_x * tiles_y, options.threads,
-        [&](int index) {
-            std::uint64_t tile_rays = 0;
-            int x0 = (index % tiles_x) * tile;
-            int y0 = (index / tiles_x) * tile;
-            int x1 = std::min(x0 + tile, size.width);
-            int y1 = std::min(y0 + tile, size.height);
-            thread_local PrimitiveLists visible;
-            culling.select(x0, y0, x1, y1, visible);
-            Rgb pixels[tile][tile];
-            for (int y = y0; y < y1; y += 2) {
-                for (int x = x0; x < x1; x += 2) {
-                    vbool4 active{_mm_castsi128_ps(_mm_setr_epi32(-1, x + 1 < x1 ? -1 : 0, y + 1 < y1 ? -1 : 0,
-                                                                   x + 1 < x1 && y + 1 < y1 ? -1 : 0))};
-                    RayPacket packet = camera.rays(x, y, active);
-                    Color4 color = packets.trace(packet, visible, 1, tile_rays);
-                    alignas(16) float r[4], g[4], b[4];
-                    color.x.store(r);
-                    color.y.store(g);
-                    color.z.store(b);
-                    // Buffer rows and columns past the image's edge are written but never copied.
-                    for (int lane = 0; lane < 4; ++lane) {
-                        pixels[y - y0 + (lane >> 1)][x - x0 + (lane & 1)] = {r[lane], g[lane], b[lane]};
-                    }
-                }
-            }
-            for (int y = y0; y < y1; ++y) {
-                std::copy(pixels[y - y0], pixels[y - y0] + (x1 - x0), &image.at(x0, y));
-            }
-            return tile_rays;
-        },
-        options.progress, options.cancel);
+    std::uint64_t ray_count = with_kernels(precision, [&](auto kernels) {
+        using P = decltype(kernels);
+        PacketTracer<P> packets(tracer.compiled());
+        CameraPacket camera(tracer.compiled(), size.width, size.height);
+        return for_each_tile(tracer.compiled(), size, options, precision.flush_denormals,
+                             [&](int x0, int y0, int x1, int y1, const PrimitiveLists& visible) {
+                                 std::uint64_t tile_rays = 0;
+                                 Rgb pixels[tile][tile];
+                                 for_each_packet(x0, y0, x1, y1, [&](int x, int y, vbool4 active) {
+                                     RayPacket packet = camera.template rays<P>(x, y, active);
+                                     Color4 color = packets.trace(packet, visible, 1, tile_rays);
+                                     alignas(16) float r[4], g[4], b[4];
+                                     color.x.store(r);
+                                     color.y.store(g);
+                                     color.z.store(b);
+                                     // Buffer rows and columns past the image's edge are written but never copied.
+                                     for (int lane = 0; lane < 4; ++lane) {
+                                         pixels[y - y0 + (lane >> 1)][x - x0 + (lane & 1)] = {r[lane], g[lane], b[lane]};
+                                     }
+                                 });
+                                 for (int y = y0; y < y1; ++y) {
+                                     std::copy(pixels[y - y0], pixels[y - y0] + (x1 - x0), &image.at(x0, y));
+                                 }
+                                 return tile_rays;
+                             });
+    });
     return {std::move(image), ray_count};
+}
+
+FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
+    scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
+    Tracer tracer(scene, precision);
+    std::uint64_t hits = with_kernels(precision, [&](auto kernels) {
+        using P = decltype(kernels);
+        PacketTracer<P> packets(tracer.compiled());
+        CameraPacket camera(tracer.compiled(), size.width, size.height);
+        return for_each_tile(tracer.compiled(), size, options, precision.flush_denormals,
+                             [&](int x0, int y0, int x1, int y1, const PrimitiveLists& visible) {
+                                 std::uint64_t tile_hits = 0;
+                                 for_each_packet(x0, y0, x1, y1, [&](int x, int y, vbool4 active) {
+                                     RayPacket packet = camera.template rays<P>(x, y, active);
+                                     tile_hits += lane_count(packets.intersect(packet, visible).hit);
+                                 });
+                                 return tile_hits;
+                             });
+    });
+    return {static_cast<std::uint64_t>(size.width) * static_cast<std::uint64_t>(size.height), hits};
 }
 
 }  // namespace twinray::sse

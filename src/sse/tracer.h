@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 
 namespace twinray::sse {
 
@@ -37,11 +38,32 @@ struct Hit {
 // 1e-3. The per-ray API answers any other ray with a miss (intersect) or the background (trace).
 bool is_traceable(const Ray& ray);
 
+// The speed/accuracy knobs (docs/performance.md). The default is the exact tracer; each knob trades
+// accuracy for speed. The four kernel knobs select a separately compiled tracer (precision.h), built
+// for exact, each knob alone and rcp+rsqrt+textbook (precision_is_built); flush_denormals is a run-time
+// MXCSR setting, combinable with any of them.
+struct Precision {
+    bool fast_rcp = false;            // divisions: _mm_rcp_ps + one Newton step instead of _mm_div_ps
+    bool fast_rsqrt = false;          // normalisation: _mm_rsqrt_ps + one Newton step instead of sqrt, divide
+    bool dpps = false;                // dot products: transposed to AoS and _mm_dp_ps instead of SoA
+    bool textbook_quadratic = false;  // b² − ac instead of the cancellation-free discriminant
+    bool flush_denormals = false;     // MXCSR flush-to-zero and denormals-are-zero while tracing
+
+    bool operator==(const Precision&) const = default;
+};
+
+// Whether the kernels of this combination are compiled in; the others are refused by Tracer and render
+// with std::invalid_argument naming the combinations that are.
+bool precision_is_built(const Precision& precision);
+std::string built_precisions();
+// "exact", or the knobs joined by '+' ("rcp+rsqrt+ftz").
+std::string precision_name(const Precision& precision);
+
 struct CompiledScene;
 
 class Tracer {
 public:
-    explicit Tracer(const scene::Scene& scene);
+    explicit Tracer(const scene::Scene& scene, const Precision& precision = {});
     ~Tracer();
     Tracer(const Tracer&) = delete;
     Tracer& operator=(const Tracer&) = delete;
@@ -56,8 +78,18 @@ public:
 
 private:
     std::unique_ptr<CompiledScene> scene_;
+    Precision precision_;
 };
 
 RenderResult render(const scene::Scene& scene, const RenderOptions& options);
+RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision);
+
+// Primary rays only: every pixel's nearest hit (the same packets, tile culling and intersection as
+// render, with the normal), no shading. The first-hit speed to hold against other ray casters (Embree).
+struct FirstHits {
+    std::uint64_t rays = 0;
+    std::uint64_t hits = 0;
+};
+FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision = {});
 
 }  // namespace twinray::sse

@@ -1,0 +1,161 @@
+#include "accuracy/ray_accuracy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <type_traits>
+#include <variant>
+
+namespace twinray::accuracy {
+namespace {
+
+template <typename V>
+RefVec to_double(const V& v) {
+    return {static_cast<double>(v[0]), static_cast<double>(v[1]), static_cast<double>(v[2])};
+}
+
+template <typename H>
+FirstHit first_hit(const H& hit) {
+    return {hit.leaf, static_cast<double>(hit.t), to_double(hit.point), to_double(hit.normal), hit.entering};
+}
+
+template <typename T>
+FirstHitOf reference_first_hits(const reference::Tracer<T>& tracer, int width, int height) {
+    return [&tracer, width, height](int x, int y) -> std::optional<FirstHit> {
+        auto hit = tracer.intersect(tracer.primary_ray(x, y, width, height));
+        return hit ? std::optional<FirstHit>(first_hit(*hit)) : std::nullopt;
+    };
+}
+
+// The value at share q of the sorted values (nearest rank).
+double quantile(const std::vector<double>& sorted, double q) {
+    if (sorted.empty()) {
+        return 0;
+    }
+    auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(sorted.size())));
+    return sorted[std::clamp<std::size_t>(rank, 1, sorted.size()) - 1];
+}
+
+bool same_answer(const std::optional<RefHit>& a, const std::optional<RefHit>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    if (!a) return true;
+    return a->leaf == b->leaf && angle_between(a->normal, b->normal) <= normal_bound_radians;
+}
+
+}  // namespace
+
+FirstHitOf first_hits_of(const reference::Tracer<double>& tracer, int width, int height) {
+    return reference_first_hits(tracer, width, height);
+}
+
+FirstHitOf first_hits_of(const reference::Tracer<float>& tracer, int width, int height) {
+    return reference_first_hits(tracer, width, height);
+}
+
+FirstHitOf first_hits_of(const sse::Tracer& tracer, int width, int height) {
+    return [&tracer, width, height](int x, int y) -> std::optional<FirstHit> {
+        auto hit = tracer.intersect(tracer.primary_ray(x, y, width, height));
+        return hit ? std::optional<FirstHit>(first_hit(*hit)) : std::nullopt;
+    };
+}
+
+std::vector<std::optional<FirstHit>> all_first_hits(const FirstHitOf& tracer, int width, int height) {
+    std::vector<std::optional<FirstHit>> hits;
+    hits.reserve(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            hits.push_back(tracer(x, y));
+        }
+    }
+    return hits;
+}
+
+double angle_between(RefVec a, RefVec b) {
+    return std::atan2(reference::length(reference::cross(a, b)), reference::dot(a, b));
+}
+
+double largest_coordinate(const scene::Scene& scene) {
+    double largest = 0;
+    auto take = [&](const scene::Vec3& v) {
+        for (double c : v) largest = std::max(largest, std::fabs(c));
+    };
+    take(scene.camera.eye);
+    take(scene.camera.look_at);
+    std::function<void(const scene::Object&)> visit = [&](const scene::Object& object) {
+        std::visit(
+            [&](const auto& shape) {
+                using S = std::decay_t<decltype(shape)>;
+                if constexpr (std::is_same_v<S, scene::Plane>) {
+                    largest = std::max(largest, std::fabs(shape.offset));
+                } else if constexpr (std::is_same_v<S, scene::Sphere>) {
+                    take(shape.center);
+                    largest = std::max(largest, shape.radius);
+                } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
+                    take(shape.base);
+                    take(shape.cap);
+                } else if constexpr (std::is_same_v<S, scene::Box>) {
+                    take(shape.min);
+                    take(shape.max);
+                } else {
+                    for (const auto& child : shape.children) visit(child);
+                }
+            },
+            object.shape);
+    };
+    for (const auto& object : scene.objects) visit(object);
+    return largest;
+}
+
+RefRay reference_ray_at(const scene::Scene& scene, double px, double py, int width, int height) {
+    using namespace reference;
+    Vec3<double> eye(scene.camera.eye);
+    Vec3<double> forward = normalize(Vec3<double>(scene.camera.look_at) - eye);
+    Vec3<double> right = normalize(cross(forward, Vec3<double>(scene.camera.up)));
+    Vec3<double> up = cross(right, forward);
+    double half_width = std::tan(scene.camera.fov_deg * std::numbers::pi / 360.0);
+    double half_height = half_width * height / width;
+    double u = (2.0 * px / width - 1.0) * half_width;
+    double v = (1.0 - 2.0 * py / height) * half_height;
+    return {eye, normalize(forward + u * right + v * up)};
+}
+
+bool in_silhouette_band(const reference::Tracer<double>& reference, const scene::Scene& scene, int x, int y, int width,
+                        int height, const std::optional<RefHit>& centre) {
+    const double shifts[4][2] = {{band_pixels, 0}, {-band_pixels, 0}, {0, band_pixels}, {0, -band_pixels}};
+    for (const auto& shift : shifts) {
+        RefRay ray = reference_ray_at(scene, x + 0.5 + shift[0], y + 0.5 + shift[1], width, height);
+        if (!same_answer(centre, reference.intersect(ray))) return true;
+    }
+    return false;
+}
+
+RayAccuracy measure_rays(const std::vector<std::optional<FirstHit>>& expected, const FirstHitOf& actual, int width,
+                         int height) {
+    RayAccuracy accuracy;
+    std::vector<double> t_relative;
+    double max_angle = 0;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const std::optional<FirstHit>& want = expected[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                                                           static_cast<std::size_t>(x)];
+            std::optional<FirstHit> got = actual(x, y);
+            ++accuracy.rays;
+            if (want.has_value() != got.has_value()) {
+                ++accuracy.hit_miss_disagreements;
+            } else if (want && want->leaf != got->leaf) {
+                ++accuracy.other_object;
+            } else if (want) {
+                t_relative.push_back(std::fabs(got->t - want->t) / want->t);
+                max_angle = std::max(max_angle, angle_between(got->normal, want->normal));
+            }
+        }
+    }
+    std::sort(t_relative.begin(), t_relative.end());
+    accuracy.t_relative_p50 = quantile(t_relative, 0.5);
+    accuracy.t_relative_p999 = quantile(t_relative, 0.999);
+    accuracy.t_relative_max = t_relative.empty() ? 0 : t_relative.back();
+    accuracy.normal_angle_max_degrees = max_angle * 180.0 / std::numbers::pi;
+    return accuracy;
+}
+
+}  // namespace twinray::accuracy

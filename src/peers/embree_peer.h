@@ -1,0 +1,41 @@
+// Embree 3 as a first-hit peer for `twinray bench` (built only when Embree is installed), each of our
+// primitives in Embree's fastest form: spheres as its native point spheres, boxes as six native quads,
+// planes as one large quad, cylinders (Embree has no capped cylinder) as user geometry whose callback
+// runs the reference tracer's formula in float; and the same primary rays as the SSE tracer
+// (its camera, in float) cast one by one (rtcIntersect1) or as 2 × 2 packets (rtcIntersect4).
+#pragma once
+
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace twinray::peers {
+
+// Empty when Embree can hold the scene, else why not (CSG: Embree has no solids).
+std::string embree_unsupported_reason(const scene::Scene& scene);
+
+struct FirstHitRun {
+    double seconds = 0;  // the casts alone: rays are made before the clock starts
+    std::uint64_t rays = 0;
+    std::uint64_t hits = 0;
+};
+
+class EmbreePeer {
+public:
+    // The scene at `width` (height by its aspect). Throws std::runtime_error if Embree fails.
+    EmbreePeer(const scene::Scene& scene, int width);
+    ~EmbreePeer();
+    EmbreePeer(const EmbreePeer&) = delete;
+    EmbreePeer& operator=(const EmbreePeer&) = delete;
+
+    FirstHitRun cast_single() const;   // rtcIntersect1 per ray
+    FirstHitRun cast_packets() const;  // rtcIntersect4 per 2 × 2 pixels
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace twinray::peers

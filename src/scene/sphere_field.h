@@ -1,0 +1,15 @@
+// A generated scene family for measuring how cost grows with scene size (twinray bench --scaling):
+// `count` spheres scattered in a cube, one light, no reflection, the same picture density at any count.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <cstdint>
+
+namespace twinray::scene {
+
+// Positions, radii and colours come from splitmix64 seeded with `seed`, turned into doubles by hand
+// (53 bits), so the scene is the same on every platform and standard library.
+Scene sphere_field(int count, std::uint64_t seed = 7);
+
+}  // namespace twinray::scene
