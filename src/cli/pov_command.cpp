@@ -11,7 +11,6 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <unistd.h>
 
 namespace twinray::cli {
 namespace {
@@ -25,21 +24,10 @@ struct PovArguments {
     int height = 0;
 };
 
-std::string folder_problem(const fs::path& output) {
-    fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
-    if (!fs::is_directory(folder)) {
-        return "folder " + folder.string() + " does not exist";
-    }
-    if (::access(folder.c_str(), W_OK) != 0) {
-        return "folder " + folder.string() + " is not writable";
-    }
-    return "";
-}
-
 int run_pov(const PovArguments& arguments) {
     fs::path output = arguments.output_path.empty() ? fs::path(fs::path(arguments.scene_path).stem().string() + ".pov")
                                                     : fs::path(arguments.output_path);
-    if (std::string problem = folder_problem(output); !problem.empty()) {
+    if (std::string problem = io::output_folder_problem(output); !problem.empty()) {
         std::cerr << "twinray pov: cannot write " << output.string() << ": " << problem << "\n";
         return exit_output_error;
     }

@@ -3,6 +3,7 @@
 #include "cli/exit_codes.h"
 #include "cli/tracers.h"
 #include "image/image_file.h"
+#include "io/atomic_file.h"
 #include "scene/loader.h"
 
 #include <atomic>
@@ -69,14 +70,7 @@ std::string output_problem(const fs::path& output) {
     if (!is_supported_image_path(output)) {
         return "unsupported image format \"" + output.extension().string() + "\"; allowed: .png (8-bit) or .exr (float)";
     }
-    fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
-    if (!fs::is_directory(folder)) {
-        return "folder " + folder.string() + " does not exist";
-    }
-    if (::access(folder.c_str(), W_OK) != 0) {
-        return "folder " + folder.string() + " is not writable";
-    }
-    return "";
+    return io::output_folder_problem(output);
 }
 
 // Progress only for a person watching: on a terminal, once a render has run for about a second.

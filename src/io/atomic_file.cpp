@@ -59,4 +59,20 @@ void write_text_atomically(const fs::path& path, std::string_view text) {
     });
 }
 
+std::string output_folder_problem(const fs::path& path) {
+    fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+    std::error_code error;
+    fs::file_status status = fs::status(folder, error);
+    if (error && error != std::errc::no_such_file_or_directory && error != std::errc::not_a_directory) {
+        return "folder " + folder.string() + " cannot be reached: " + error.message();
+    }
+    if (!fs::is_directory(status)) {
+        return "folder " + folder.string() + " does not exist";
+    }
+    if (::access(folder.c_str(), W_OK) != 0) {
+        return "folder " + folder.string() + " is not writable";
+    }
+    return "";
+}
+
 }  // namespace twinray::io

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 
 namespace twinray::io {
@@ -21,5 +22,9 @@ public:
 void write_atomically(const std::filesystem::path& path, const std::function<void(const std::filesystem::path&)>& write);
 
 void write_text_atomically(const std::filesystem::path& path, std::string_view text);
+
+// Why a file could not be written at `path` (its folder is missing, unreachable or not writable), or ""
+// if it can be: asked before a long job, so that the job is not wasted.
+std::string output_folder_problem(const std::filesystem::path& path);
 
 }  // namespace twinray::io
