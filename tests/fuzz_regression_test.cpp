@@ -56,9 +56,9 @@ TEST(FuzzRegression, EverySceneInputIsAcceptedOrRefusedWithASceneErrorWithinASec
     }
 }
 
-// Ten seconds, the fuzz targets' per-input timeout: the recorded OpenEXR input takes ~2 s (it makes
-// OpenEXR allocate ~1.9 GB before refusing).
-TEST(FuzzRegression, EveryImageInputIsReadOrRefusedWithAnErrorNamingTheFileWithinTenSeconds) {
+// Sixty seconds, the image fuzz target's per-input timeout: the recorded OpenEXR inputs make OpenEXR
+// allocate gigabytes, ~2 s in a release build and up to ~25 s under ASan.
+TEST(FuzzRegression, EveryImageInputIsReadOrRefusedWithAnErrorNamingTheFileWithinSixtySeconds) {
     std::vector<fs::path> inputs = recorded_inputs("image_loader");
     ASSERT_FALSE(inputs.empty()) << "tests/data/fuzz_regressions/image_loader/ holds the OpenEXR input";
     for (const fs::path& input : inputs) {
@@ -72,7 +72,7 @@ TEST(FuzzRegression, EveryImageInputIsReadOrRefusedWithAnErrorNamingTheFileWithi
         } catch (const std::exception& error) {
             ADD_FAILURE() << "refused with something other than an ImageReadError: " << error.what();
         }
-        EXPECT_LT(seconds_since(start), 10.0);
+        EXPECT_LT(seconds_since(start), 60.0);
     }
 }
 
