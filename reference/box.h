@@ -61,7 +61,8 @@ SurfacePoint<T> surface_point(const BoxShape<T>& box, Vec3<T> point, Vec3<T> nor
     for (int axis = 0; axis < 3; ++axis) {
         if (normal[axis] != T(0)) {
             T c = coordinates[axis];
-            coordinates[axis] = std::fabs(c - box.max[axis]) < std::fabs(c - box.min[axis]) ? box.max[axis] : box.min[axis];
+            coordinates[axis] =
+                std::fabs(c - box.max[axis]) < std::fabs(c - box.min[axis]) ? box.max[axis] : box.min[axis];
         }
     }
     Vec3<T> projected{coordinates[0], coordinates[1], coordinates[2]};

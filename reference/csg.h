@@ -69,7 +69,8 @@ SpanList<T> sweep(const SpanList<T>& a, const SpanList<T>& b, Inside inside) {
         if (was_inside != now_inside) {
             const Event<T>* bound = nullptr;
             for (std::size_t i = first; i < last; ++i) {
-                if (events[i].enters == now_inside && (bound == nullptr || events[i].crossing.leaf < bound->crossing.leaf)) {
+                if (events[i].enters == now_inside &&
+                    (bound == nullptr || events[i].crossing.leaf < bound->crossing.leaf)) {
                     bound = &events[i];
                 }
             }

@@ -91,10 +91,10 @@ std::optional<Span<T>> span_of(const CylinderShape<T>& cylinder, const Ray<T>& r
         Vec3<T> radial = cylinder_detail::remove_axial(ray.at(t) - cylinder.base, cylinder.axis);
         return Crossing<T>{t, radial_normal(radial, ray.direction), cylinder.leaf};
     };
-    Crossing<T> enter = slab_near > side->first ? Crossing<T>{slab_near, near_cap_normal, cylinder.leaf}
-                                                : side_crossing(side->first);
-    Crossing<T> exit = slab_far < side->second ? Crossing<T>{slab_far, far_cap_normal, cylinder.leaf}
-                                               : side_crossing(side->second);
+    Crossing<T> enter =
+        slab_near > side->first ? Crossing<T>{slab_near, near_cap_normal, cylinder.leaf} : side_crossing(side->first);
+    Crossing<T> exit =
+        slab_far < side->second ? Crossing<T>{slab_far, far_cap_normal, cylinder.leaf} : side_crossing(side->second);
     if (!(enter.t <= exit.t)) {
         return std::nullopt;
     }
@@ -111,7 +111,8 @@ template <typename T>
 SurfacePoint<T> surface_point(const CylinderShape<T>& cylinder, Vec3<T> point, Vec3<T> normal) {
     Vec3<T> from_base = point - cylinder.base;
     T axial = dot(from_base, cylinder.axis);
-    T own_rounding = rounding_bound<T>(5) * (cylinder.radius + cylinder.height) + rounding_bound<T>(2) * max_abs_component(point);
+    T own_rounding =
+        rounding_bound<T>(5) * (cylinder.radius + cylinder.height) + rounding_bound<T>(2) * max_abs_component(point);
     Vec3<T> projected = point;
     if (std::fabs(dot(normal, cylinder.axis)) > T(0.5)) {
         T cap_axial = std::fabs(axial - cylinder.height) < std::fabs(axial) ? cylinder.height : T(0);
@@ -125,7 +126,8 @@ SurfacePoint<T> surface_point(const CylinderShape<T>& cylinder, Vec3<T> point, V
             projected = cylinder.base + axial * cylinder.axis + radius * normal;
         }
     }
-    T offset = rounding_bound<T>(12) * (cylinder.radius + cylinder.height) + rounding_bound<T>(4) * max_abs_component(projected);
+    T offset = rounding_bound<T>(12) * (cylinder.radius + cylinder.height) +
+               rounding_bound<T>(4) * max_abs_component(projected);
     return {projected, offset};
 }
 

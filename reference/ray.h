@@ -22,11 +22,11 @@ struct Ray {
 template <typename T>
 struct Hit {
     T t{};
-    Vec3<T> point;   // re-projected onto the primitive's surface (surface_point in its header)
-    Vec3<T> normal;  // unit, facing the ray: dot(normal, direction) <= 0
-    int leaf = -1;   // the primitive whose surface was hit (Scene::leaf_paths)
+    Vec3<T> point;          // re-projected onto the primitive's surface (surface_point in its header)
+    Vec3<T> normal;         // unit, facing the ray: dot(normal, direction) <= 0
+    int leaf = -1;          // the primitive whose surface was hit (Scene::leaf_paths)
     bool entering = false;  // the ray enters the (composite) solid here
-    T spawn_offset{};  // how far off the surface secondary rays start (SurfacePoint::spawn_offset)
+    T spawn_offset{};       // how far off the surface secondary rays start (SurfacePoint::spawn_offset)
 };
 
 // The unit vector along `radial`, the normal of a curved surface at a hit. A primitive smaller than the

@@ -52,7 +52,8 @@ SurfacePoint<T> surface_point(const SphereShape<T>& sphere, Vec3<T> point, Vec3<
     T distance = dot(normal, point - sphere.center);  // ±|p − c|: the normal lies along p − c
     T radius = distance < T(0) ? -sphere.radius : sphere.radius;
     T own_rounding = rounding_bound<T>(5) * sphere.radius + rounding_bound<T>(2) * max_abs_component(point);
-    Vec3<T> projected = std::fabs(std::fabs(distance) - sphere.radius) > own_rounding ? sphere.center + radius * normal : point;
+    Vec3<T> projected =
+        std::fabs(std::fabs(distance) - sphere.radius) > own_rounding ? sphere.center + radius * normal : point;
     T offset = rounding_bound<T>(9) * sphere.radius + rounding_bound<T>(4) * max_abs_component(projected);
     return {projected, offset};
 }

@@ -22,7 +22,8 @@ Shape<T> compile(const scene::Object& object) {
             } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
                 Vec3<T> base(shape.base);
                 Vec3<T> along = Vec3<T>(shape.cap) - base;
-                return CylinderShape<T>{base, normalize(along), length(along), static_cast<T>(shape.radius), object.leaf};
+                return CylinderShape<T>{base, normalize(along), length(along), static_cast<T>(shape.radius),
+                                        object.leaf};
             } else if constexpr (std::is_same_v<S, scene::Box>) {
                 return BoxShape<T>{Vec3<T>(shape.min), Vec3<T>(shape.max), object.leaf};
             } else {
@@ -121,7 +122,8 @@ Vec3d to_vec3d(Vec3<T> v) {
 }
 
 template <typename T>
-int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const Ray<T>& ray, const std::optional<Hit<T>>& hit) {
+int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const Ray<T>& ray,
+               const std::optional<Hit<T>>& hit) {
     if (tree == nullptr) [[likely]] {
         return -1;
     }
@@ -227,9 +229,9 @@ std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
         }
     }
     if (nearest) {
-        SurfacePoint<T> on_surface = std::visit(
-            [&](const auto& shape) { return surface_point(shape, nearest->point, nearest->normal); },
-            leaf_shapes_[static_cast<std::size_t>(nearest->leaf)]);
+        SurfacePoint<T> on_surface =
+            std::visit([&](const auto& shape) { return surface_point(shape, nearest->point, nearest->normal); },
+                       leaf_shapes_[static_cast<std::size_t>(nearest->leaf)]);
         nearest->point = on_surface.point;
         nearest->spawn_offset = on_surface.spawn_offset;
     }

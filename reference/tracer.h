@@ -84,7 +84,8 @@ private:
     // intersect() without the check of the ray: every ray the tracer makes itself is traceable.
     std::optional<Hit<T>> first_hit(const Ray<T>& ray) const;
     // trace() of one ray of the tree, recorded (if `tree`) as a `kind` child of node `parent`.
-    Color<T> trace_ray(const Ray<T>& ray, int depth, std::uint64_t& rays, RayTree* tree, RayKind kind, int parent) const;
+    Color<T> trace_ray(const Ray<T>& ray, int depth, std::uint64_t& rays, RayTree* tree, RayKind kind,
+                       int parent) const;
     // `node`: this hit's ray in `tree`, if recording.
     Color<T> shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays, RayTree* tree, int node) const;
 

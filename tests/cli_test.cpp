@@ -3,13 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <sys/wait.h>
 
 namespace {
 
@@ -76,7 +76,8 @@ TEST_F(CliTest, WidthAloneKeepsTheScenesAspectRatio) {
 }
 
 TEST_F(CliTest, InvalidSceneIsRefusedWithItsJsonPathStatusTwoAndNothingWritten) {
-    CommandResult result = run_twinray("render " + malformed("sphere_radius_negative.json") + " -o " + output("bad.png"));
+    CommandResult result =
+        run_twinray("render " + malformed("sphere_radius_negative.json") + " -o " + output("bad.png"));
     EXPECT_EQ(result.exit_status, 2) << result.output;
     EXPECT_NE(result.output.find("sphere_radius_negative.json"), std::string::npos) << result.output;
     EXPECT_NE(result.output.find("objects[0].radius"), std::string::npos) << result.output;
@@ -93,7 +94,8 @@ TEST_F(CliTest, MissingSceneFileIsRefusedWithStatusTwo) {
 TEST_F(CliTest, UnsupportedOutputFormatIsAUsageErrorBeforeRendering) {
     CommandResult result = run_twinray("render " + scene("spheres.json") + " -o " + output("s.jpg"));
     EXPECT_EQ(result.exit_status, 1) << result.output;
-    EXPECT_NE(result.output.find(".png"), std::string::npos) << "the message should say what is allowed:\n" << result.output;
+    EXPECT_NE(result.output.find(".png"), std::string::npos) << "the message should say what is allowed:\n"
+                                                             << result.output;
     EXPECT_TRUE(fs::is_empty(folder_));
 }
 
@@ -106,17 +108,20 @@ TEST_F(CliTest, OutputIntoAMissingFolderIsRefusedWithStatusThree) {
 TEST_F(CliTest, OutOfRangeSizeAndUnknownTracerAreUsageErrors) {
     EXPECT_EQ(run_twinray("render " + scene("spheres.json") + " --width 0 -o " + output("a.png")).exit_status, 1);
     EXPECT_EQ(run_twinray("render " + scene("spheres.json") + " --height 16385 -o " + output("b.png")).exit_status, 1);
-    EXPECT_EQ(run_twinray("render " + scene("spheres.json") + " --tracer nonsense -o " + output("c.png")).exit_status, 1);
+    EXPECT_EQ(run_twinray("render " + scene("spheres.json") + " --tracer nonsense -o " + output("c.png")).exit_status,
+              1);
     EXPECT_TRUE(fs::is_empty(folder_));
 }
 
 TEST_F(CliTest, SseTracerOnACpuWithoutSse41IsRefusedWithStatusFiveAndNothingWritten) {
     const std::string no_sse41 = "TWINRAY_SIMULATE_NO_SSE41=1";
-    CommandResult result = run_twinray("render " + scene("spheres.json") + " --tracer sse -o " + output("s.png"), no_sse41);
+    CommandResult result =
+        run_twinray("render " + scene("spheres.json") + " --tracer sse -o " + output("s.png"), no_sse41);
     EXPECT_EQ(result.exit_status, 5) << result.output;
     EXPECT_NE(result.output.find("SSE4.1"), std::string::npos) << result.output;
     EXPECT_TRUE(fs::is_empty(folder_));
-    CommandResult fallback = run_twinray("render " + scene("spheres.json") + " --tracer reference -o " + output("r.png"), no_sse41);
+    CommandResult fallback =
+        run_twinray("render " + scene("spheres.json") + " --tracer reference -o " + output("r.png"), no_sse41);
     EXPECT_EQ(fallback.exit_status, 0) << fallback.output;
 }
 
@@ -148,7 +153,8 @@ TEST_F(CliTest, CompareExitsTwoOnFailOneOnWarnAndWritesTheErrorMap) {
     // Two different scenes of the same aspect ratio: same size, different pixels.
     ASSERT_EQ(run_twinray("render " + scene("spheres.json") + " --width 64 -o " + output("ref.png")).exit_status, 0);
     ASSERT_EQ(run_twinray("render " + scene("planes.json") + " --width 64 -o " + output("other.png")).exit_status, 0);
-    CommandResult fail = run_twinray("compare " + output("ref.png") + " " + output("other.png") + " --map " + output("map.png"));
+    CommandResult fail =
+        run_twinray("compare " + output("ref.png") + " " + output("other.png") + " --map " + output("map.png"));
     EXPECT_EQ(fail.exit_status, 2) << fail.output;
     EXPECT_TRUE(fs::exists(output("map.png")));
     CommandResult warn = run_twinray("compare " + output("ref.png") + " " + output("other.png") +
@@ -180,7 +186,8 @@ TEST_F(CliTest, CompareRefusesAFileThatIsNotTheFormatItsNameSaysWithStatusFour) 
 }
 
 TEST_F(CliTest, DiffWritesPerSceneImagesAndAReportWithProbeCommands) {
-    CommandResult result = run_twinray("diff " + scene("csg.json") + " " + scene("spheres.json") + " --width 80 -o " + output("report"));
+    CommandResult result =
+        run_twinray("diff " + scene("csg.json") + " " + scene("spheres.json") + " --width 80 -o " + output("report"));
     ASSERT_EQ(result.exit_status, 0) << result.output;
     for (const char* name : {"csg", "spheres"}) {
         for (const char* image : {"reference.png", "sse.png", "error.png", "mask.png"}) {
@@ -200,16 +207,19 @@ TEST_F(CliTest, GoldenUpdatesOnlyOnPurposeAndReportsWhatChanged) {
     CommandResult refused = run_twinray("golden " + scene("spheres.json") + " --golden-folder " + folder_.string());
     EXPECT_EQ(refused.exit_status, 1) << refused.output;
     EXPECT_TRUE(fs::is_empty(folder_));
-    CommandResult first = run_twinray("golden --update " + scene("spheres.json") + " --golden-folder " + folder_.string());
+    CommandResult first =
+        run_twinray("golden --update " + scene("spheres.json") + " --golden-folder " + folder_.string());
     ASSERT_EQ(first.exit_status, 0) << first.output;
     EXPECT_NE(first.output.find("new"), std::string::npos) << first.output;
-    CommandResult again = run_twinray("golden --update " + scene("spheres.json") + " --golden-folder " + folder_.string());
+    CommandResult again =
+        run_twinray("golden --update " + scene("spheres.json") + " --golden-folder " + folder_.string());
     EXPECT_NE(again.output.find("unchanged"), std::string::npos) << again.output;
     EXPECT_TRUE(fs::exists(folder_ / "spheres.png"));
 }
 
 TEST_F(CliTest, PrecisionKnobsSelectAnSseVariantAndAreRefusedWhereTheyDoNotApply) {
-    CommandResult fast = run_twinray("render " + scene("spheres.json") + " --width 32 --precision fast -o " + output("f.png"));
+    CommandResult fast =
+        run_twinray("render " + scene("spheres.json") + " --width 32 --precision fast -o " + output("f.png"));
     ASSERT_EQ(fast.exit_status, 0) << fast.output;
     EXPECT_NE(fast.output.find("precision:   rcp+rsqrt+textbook+ftz"), std::string::npos) << fast.output;
     CommandResult reference =

@@ -21,7 +21,8 @@ namespace compare = twinray::compare;
 Image flat(int width, int height, Rgb colour) {
     Image image(width, height);
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) image.at(x, y) = colour;
+        for (int x = 0; x < width; ++x)
+            image.at(x, y) = colour;
     return image;
 }
 
@@ -127,7 +128,9 @@ TEST(CompareReadImage, ReadsBackWhatWriteImageWrote) {
     EXPECT_THROW(compare::read_image(fs::path(TWINRAY_TEST_OUTPUT_DIR) / "no_such.png"), compare::ImageReadError);
 }
 
-fs::path test_image(const std::string& name) { return fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "images" / name; }
+fs::path test_image(const std::string& name) {
+    return fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "images" / name;
+}
 
 std::string refusal_of(const fs::path& file, std::int64_t pixel_limit = twinray::max_image_pixels) {
     try {

@@ -1,7 +1,6 @@
 // The SSE tracer held against the reference<double> on every scene in scenes/: per primary ray (same
 // object; t, point and normal within a bound derived from float epsilon and the scene's scale) and per
 // image (max absolute error, share of pixels over 1/255). Measured maxima are printed on every run.
-#include "tests/scene_files.h"
 #include "accuracy/ray_accuracy.h"
 #include "compare/image_compare.h"
 #include "compare/tolerances.h"
@@ -10,6 +9,7 @@
 #include "scene/loader.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
+#include "tests/scene_files.h"
 
 #include <gtest/gtest.h>
 
@@ -74,8 +74,10 @@ TEST_P(Conformance, EveryPrimaryRayHitsTheSameObjectWithinTheFloatBound) {
                 RefVec normal(actual->normal.x, actual->normal.y, actual->normal.z);
                 double point_error = twinray::reference::length(point - expected->point);
                 double normal_error = angle_between(normal, expected->normal);
-                double cos_incidence = std::fabs(twinray::reference::dot(expected->normal, reference.primary_ray(x, y, width, height).direction));
-                double distance_bound = distance_bound_in_epsilons * float_epsilon * (scale + expected->t) / cos_incidence;
+                double cos_incidence = std::fabs(
+                    twinray::reference::dot(expected->normal, reference.primary_ray(x, y, width, height).direction));
+                double distance_bound =
+                    distance_bound_in_epsilons * float_epsilon * (scale + expected->t) / cos_incidence;
                 max_bound_share = std::max(max_bound_share, std::max(t_error, point_error) / distance_bound);
                 agrees = t_error <= distance_bound && point_error <= distance_bound &&
                          normal_error <= normal_bound_radians && actual->entering == expected->entering;
@@ -91,19 +93,23 @@ TEST_P(Conformance, EveryPrimaryRayHitsTheSameObjectWithinTheFloatBound) {
                 } else {
                     ++disagreements;
                     ADD_FAILURE() << "pixel " << x << "," << y << ": reference "
-                                  << (expected ? scene_.leaf_paths[expected->leaf] + " t=" + std::to_string(expected->t) : "miss")
+                                  << (expected ? scene_.leaf_paths[expected->leaf] + " t=" + std::to_string(expected->t)
+                                               : "miss")
                                   << ", sse "
-                                  << (actual ? scene_.leaf_paths[actual->leaf] + " t=" + std::to_string(actual->t) : "miss");
-                    if (disagreements > 10) return;
+                                  << (actual ? scene_.leaf_paths[actual->leaf] + " t=" + std::to_string(actual->t)
+                                             : "miss");
+                    if (disagreements > 10)
+                        return;
                 }
             }
         }
     }
-    std::printf("[ measured ] %s: %ld rays, %ld of them in the %.0e-pixel band, %ld disagreements; max |dt| %.3g, "
-                "max |dp| %.3g, at most %.3f of the bound %.0f*eps*(S + t)/|cos| with S = %.3g; "
-                "max normal angle %.3g rad (bound %.0e)\n",
-                GetParam().stem().c_str(), rays, banded, band_pixels, disagreements, max_t_error, max_point_error,
-                max_bound_share, distance_bound_in_epsilons, scale, max_normal_error, normal_bound_radians);
+    std::printf(
+        "[ measured ] %s: %ld rays, %ld of them in the %.0e-pixel band, %ld disagreements; max |dt| %.3g, "
+        "max |dp| %.3g, at most %.3f of the bound %.0f*eps*(S + t)/|cos| with S = %.3g; "
+        "max normal angle %.3g rad (bound %.0e)\n",
+        GetParam().stem().c_str(), rays, banded, band_pixels, disagreements, max_t_error, max_point_error,
+        max_bound_share, distance_bound_in_epsilons, scale, max_normal_error, normal_bound_radians);
     RecordProperty("max_t_error", std::to_string(max_t_error));
     RecordProperty("band_rays", std::to_string(banded));
     EXPECT_EQ(disagreements, 0);
@@ -117,13 +123,15 @@ TEST_P(Conformance, RenderedImageAgreesWithTheReference) {
     twinray::Image expected = twinray::compare::clamped(twinray::reference::render<double>(scene_, options).image);
     twinray::Image actual = twinray::compare::clamped(twinray::sse::render(scene_, options).image);
     const std::string name = GetParam().stem().string();
-    auto manifest = twinray::compare::ToleranceManifest::load(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "tolerances.json");
+    auto manifest =
+        twinray::compare::ToleranceManifest::load(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "tolerances.json");
     twinray::compare::Thresholds thresholds = manifest.for_scene(name).sse;
     twinray::compare::Metrics metrics = twinray::compare::measure(expected, actual, thresholds);
     double share = static_cast<double>(metrics.fail_pixels) / static_cast<double>(metrics.pixel_count);
-    std::printf("[ measured ] %s image: max abs error %.4f at %d,%d, %ld pixels (%.4f%%) over %.4g; allowed %.4g%%, max %.4g\n",
-                name.c_str(), metrics.max_error, metrics.max_x, metrics.max_y, metrics.fail_pixels, 100 * share, thresholds.fail,
-                thresholds.fail_percent, thresholds.hard_fail);
+    std::printf(
+        "[ measured ] %s image: max abs error %.4f at %d,%d, %ld pixels (%.4f%%) over %.4g; allowed %.4g%%, max %.4g\n",
+        name.c_str(), metrics.max_error, metrics.max_x, metrics.max_y, metrics.fail_pixels, 100 * share,
+        thresholds.fail, thresholds.fail_percent, thresholds.hard_fail);
     RecordProperty("max_error", std::to_string(metrics.max_error));
     RecordProperty("share_over_fail", std::to_string(share));
     EXPECT_LE(100 * share, thresholds.fail_percent) << "see twinray diff " << GetParam().string() << " -o DIR";
@@ -131,6 +139,8 @@ TEST_P(Conformance, RenderedImageAgreesWithTheReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Conformance, ::testing::ValuesIn(scene_files()),
-                         [](const ::testing::TestParamInfo<fs::path>& param_info) { return param_info.param.stem().string(); });
+                         [](const ::testing::TestParamInfo<fs::path>& param_info) {
+                             return param_info.param.stem().string();
+                         });
 
 }  // namespace

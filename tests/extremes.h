@@ -38,9 +38,9 @@ inline std::string tracer_test_name(const ::testing::TestParamInfo<numerics::Tra
 
 }  // namespace twinray::test
 
-#define TWINRAY_FOR_EACH_TRACER(Suite)                                                                        \
-    INSTANTIATE_TEST_SUITE_P(Tracers, Suite,                                                                  \
-                             ::testing::Values(twinray::numerics::TracerKind::reference_double,               \
-                                               twinray::numerics::TracerKind::reference_float,                \
-                                               twinray::numerics::TracerKind::sse),                           \
-                             twinray::test::tracer_test_name)
+#define TWINRAY_FOR_EACH_TRACER(Suite)                                                                         \
+    INSTANTIATE_TEST_SUITE_P(                                                                                  \
+        Tracers, Suite,                                                                                        \
+        ::testing::Values(twinray::numerics::TracerKind::reference_double,                                     \
+                          twinray::numerics::TracerKind::reference_float, twinray::numerics::TracerKind::sse), \
+        twinray::test::tracer_test_name)

@@ -78,7 +78,8 @@ TEST_P(ExtremesDegenerate, SphereOfRadius1e6BesideOneOfRadius1e6HitsWithinItsBou
                 continue;
             }
             ++seen[hit.leaf];
-            double error = static_cast<double>(twinray::numerics::distance_to_surface(*leaves[static_cast<std::size_t>(hit.leaf)], hit.point));
+            double error = static_cast<double>(
+                twinray::numerics::distance_to_surface(*leaves[static_cast<std::size_t>(hit.leaf)], hit.point));
             EXPECT_LE(error, bounds[hit.leaf]) << "leaf " << hit.leaf << " at pixel " << x << "," << y;
             worst[hit.leaf] = std::max(worst[hit.leaf], error);
         }
@@ -87,8 +88,10 @@ TEST_P(ExtremesDegenerate, SphereOfRadius1e6BesideOneOfRadius1e6HitsWithinItsBou
         EXPECT_GT(seen[1], 20) << "double sees the small sphere";
         EXPECT_GT(seen[0], 50) << "and the large one below it";
     }
-    std::printf("[ measured ] %s: large sphere in %d pixels (error up to %.2e, bound %.2e), small sphere in %d (error up to %.2e, bound %.2e)\n",
-                twinray::numerics::tracer_name(GetParam()), seen[0], worst[0], bounds[0], seen[1], worst[1], bounds[1]);
+    std::printf(
+        "[ measured ] %s: large sphere in %d pixels (error up to %.2e, bound %.2e), small sphere in %d (error up to "
+        "%.2e, bound %.2e)\n",
+        twinray::numerics::tracer_name(GetParam()), seen[0], worst[0], bounds[0], seen[1], worst[1], bounds[1]);
 }
 
 // Identical boxes in a union are one box (the earlier leaf wins the tie); subtracted from each other they
@@ -102,13 +105,16 @@ TEST_P(ExtremesDegenerate, CoincidentCsgSurfacesLeaveNoSeamAndNothingWhereTheyCa
     };
     scene::Object cube = test::box({-1, -1, -1}, {1, 1, 1});
     auto one = twinray::numerics::make_tracer(single_scene(cube), GetParam());
-    auto doubled = twinray::numerics::make_tracer(single_scene(test::csg(scene::CsgOp::union_, {cube, cube})), GetParam());
-    auto cancelled = twinray::numerics::make_tracer(single_scene(test::csg(scene::CsgOp::difference, {cube, cube})), GetParam());
+    auto doubled =
+        twinray::numerics::make_tracer(single_scene(test::csg(scene::CsgOp::union_, {cube, cube})), GetParam());
+    auto cancelled =
+        twinray::numerics::make_tracer(single_scene(test::csg(scene::CsgOp::difference, {cube, cube})), GetParam());
     int rays = 0;
     for (double y = -1.25; y <= 1.25; y += 0.125) {
         for (double x = -1.25; x <= 1.25; x += 0.125) {
             Vec3d origin{x, y, 5}, direction{0.0, 0.0, -1.0};
-            twinray::numerics::FirstHit a = one->intersect(origin, direction), b = doubled->intersect(origin, direction);
+            twinray::numerics::FirstHit a = one->intersect(origin, direction),
+                                        b = doubled->intersect(origin, direction);
             EXPECT_EQ(a.hit, b.hit) << x << "," << y;
             if (a.hit && b.hit) {
                 EXPECT_EQ(a.t, b.t);
@@ -120,7 +126,8 @@ TEST_P(ExtremesDegenerate, CoincidentCsgSurfacesLeaveNoSeamAndNothingWhereTheyCa
     }
     // Two boxes sharing the face x = 0: from inside the first, the union is left at x = 1, not at x = 0.
     auto touching = twinray::numerics::make_tracer(
-        single_scene(test::csg(scene::CsgOp::union_, {test::box({-1, -1, -1}, {0, 1, 1}), test::box({0, -1, -1}, {1, 1, 1})})),
+        single_scene(
+            test::csg(scene::CsgOp::union_, {test::box({-1, -1, -1}, {0, 1, 1}), test::box({0, -1, -1}, {1, 1, 1})})),
         GetParam());
     twinray::numerics::FirstHit leaving = touching->intersect({-0.5, 0.1, 0.2}, {1, 0, 0});
     ASSERT_TRUE(leaving.hit);
@@ -187,10 +194,11 @@ TEST_P(ExtremesDegenerate, CameraInsideASolidSeesItsInsideFromEveryPixel) {
                 const twinray::RayNode& primary = tree.nodes.front();
                 ASSERT_TRUE(primary.hit) << x << "," << y;
                 EXPECT_FALSE(primary.entering) << "the camera is inside: the first surface is left";
-                double expected = std::holds_alternative<scene::Sphere>(solid.shape)
-                                      ? 2.0
-                                      : 2.0 / std::max({std::fabs(primary.direction[0]), std::fabs(primary.direction[1]),
-                                                        std::fabs(primary.direction[2])});
+                double expected =
+                    std::holds_alternative<scene::Sphere>(solid.shape)
+                        ? 2.0
+                        : 2.0 / std::max({std::fabs(primary.direction[0]), std::fabs(primary.direction[1]),
+                                          std::fabs(primary.direction[2])});
                 EXPECT_NEAR(primary.t, expected, 16 * unit_roundoff(GetParam()) * 4) << x << "," << y;
             }
         }

@@ -28,14 +28,27 @@ using twinray::numerics::TracerKind;
 namespace test = twinray::test;
 namespace scene = twinray::scene;
 
-Vec3d operator+(Vec3d a, Vec3d b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3d operator-(Vec3d a, Vec3d b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3d operator*(double s, Vec3d a) { return {s * a[0], s * a[1], s * a[2]}; }
-double dot(Vec3d a, Vec3d b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3d cross(Vec3d a, Vec3d b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
-Vec3d unit(Vec3d a) { return (1 / std::sqrt(dot(a, a))) * a; }
-double max_abs(Vec3d a) { return std::max({std::fabs(a[0]), std::fabs(a[1]), std::fabs(a[2])}); }
-
+Vec3d operator+(Vec3d a, Vec3d b) {
+    return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+Vec3d operator-(Vec3d a, Vec3d b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+Vec3d operator*(double s, Vec3d a) {
+    return {s * a[0], s * a[1], s * a[2]};
+}
+double dot(Vec3d a, Vec3d b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+Vec3d cross(Vec3d a, Vec3d b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec3d unit(Vec3d a) {
+    return (1 / std::sqrt(dot(a, a))) * a;
+}
+double max_abs(Vec3d a) {
+    return std::max({std::fabs(a[0]), std::fabs(a[1]), std::fabs(a[2])});
+}
 
 // The ray as the tracer receives it: rounded to float for the float tracers.
 Vec3d as_held(Vec3d v, TracerKind kind) {
@@ -71,25 +84,30 @@ std::vector<Interval> intervals_of(const scene::Object& primitive, int leaf, Vec
 // Two convex operands: each gives at most one interval.
 std::vector<Interval> combine(scene::CsgOp op, const std::vector<Interval>& a, const std::vector<Interval>& b) {
     if (op == scene::CsgOp::union_) {
-        if (a.empty() || b.empty()) return a.empty() ? b : a;
+        if (a.empty() || b.empty())
+            return a.empty() ? b : a;
         const Interval &x = a[0], &y = b[0];
         if (x.enter.t <= y.exit.t && y.enter.t <= x.exit.t) {
             return {{x.enter.t <= y.enter.t ? x.enter : y.enter, x.exit.t >= y.exit.t ? x.exit : y.exit}};
         }
         return x.enter.t < y.enter.t ? std::vector<Interval>{x, y} : std::vector<Interval>{y, x};
     }
-    if (a.empty() || b.empty()) return op == scene::CsgOp::difference ? a : std::vector<Interval>{};
+    if (a.empty() || b.empty())
+        return op == scene::CsgOp::difference ? a : std::vector<Interval>{};
     const Interval &x = a[0], &y = b[0];
     if (op == scene::CsgOp::intersection) {
         Interval both{x.enter.t >= y.enter.t ? x.enter : y.enter, x.exit.t <= y.exit.t ? x.exit : y.exit};
         return both.enter.t < both.exit.t ? std::vector<Interval>{both} : std::vector<Interval>{};
     }
     std::vector<Interval> pieces;
-    if (y.enter.t > x.enter.t) pieces.push_back({x.enter, y.enter.t < x.exit.t ? y.enter : x.exit});
-    if (y.exit.t < x.exit.t) pieces.push_back({y.exit.t > x.enter.t ? y.exit : x.enter, x.exit});
+    if (y.enter.t > x.enter.t)
+        pieces.push_back({x.enter, y.enter.t < x.exit.t ? y.enter : x.exit});
+    if (y.exit.t < x.exit.t)
+        pieces.push_back({y.exit.t > x.enter.t ? y.exit : x.enter, x.exit});
     std::vector<Interval> result;
     for (const Interval& piece : pieces) {
-        if (piece.enter.t < piece.exit.t) result.push_back(piece);
+        if (piece.enter.t < piece.exit.t)
+            result.push_back(piece);
     }
     return result;
 }
@@ -108,7 +126,8 @@ Truth exact_first_hit(const scene::Scene& held, Vec3d o, Vec3d d) {
         for (const Crossing& c : {span.enter, span.exit}) {
             if (c.t > 0 && std::isfinite(static_cast<double>(c.t))) {
                 double t = static_cast<double>(c.t);
-                return {true, c.leaf, t, twinray::numerics::exact_normal(*leaves[static_cast<std::size_t>(c.leaf)], o + t * d)};
+                return {true, c.leaf, t,
+                        twinray::numerics::exact_normal(*leaves[static_cast<std::size_t>(c.leaf)], o + t * d)};
             }
         }
     }
@@ -131,8 +150,9 @@ std::vector<Family> families(double size, double shift) {
         b.object(test::sphere(c, size));
         Vec3d d = unit({1, 0.3, 0.2});
         Vec3d e = unit(cross(d, {0.1, 0, 1}));
-        out.push_back({"sphere silhouette", b.build(), size,
-                       [=](double delta) { return std::pair{c - (4 * size) * d + (size * (1 + delta)) * e, d}; }});
+        out.push_back({"sphere silhouette", b.build(), size, [=](double delta) {
+                           return std::pair{c - (4 * size) * d + (size * (1 + delta)) * e, d};
+                       }});
     }
     {
         test::SceneBuilder b;
@@ -140,8 +160,9 @@ std::vector<Family> families(double size, double shift) {
         b.object(test::cylinder(c - size * a, c + size * a, 0.5 * size));
         Vec3d d = unit(cross(a, {0, 0, 1}));
         Vec3d e = cross(a, d);
-        out.push_back({"cylinder silhouette", b.build(), size,
-                       [=](double delta) { return std::pair{c - (4 * size) * d + (0.5 * size * (1 + delta)) * e, d}; }});
+        out.push_back({"cylinder silhouette", b.build(), size, [=](double delta) {
+                           return std::pair{c - (4 * size) * d + (0.5 * size * (1 + delta)) * e, d};
+                       }});
     }
     {
         test::SceneBuilder b;
@@ -149,26 +170,32 @@ std::vector<Family> families(double size, double shift) {
         Vec3d edge = c + size * Vec3d{1, 0.8, 0};
         Vec3d d = unit({-1, 1, 0.3});
         Vec3d e = unit({1, 1, 0});
-        out.push_back({"box edge", b.build(), size,
-                       [=](double delta) { return std::pair{edge - (4 * size) * d + (size * delta) * e, d}; }});
+        out.push_back({"box edge", b.build(), size, [=](double delta) {
+                           return std::pair{edge - (4 * size) * d + (size * delta) * e, d};
+                       }});
     }
     // The seam where the face x = max of a box meets a sphere of radius 1.3: a circle of radius √0.69 in
     // that face; the rays cross it along y.
-    for (auto [op, name] : {std::pair{scene::CsgOp::union_, "union seam"}, std::pair{scene::CsgOp::intersection, "intersection seam"},
-                            std::pair{scene::CsgOp::difference, "difference seam"}}) {
+    for (auto [op, name] :
+         {std::pair{scene::CsgOp::union_, "union seam"}, std::pair{scene::CsgOp::intersection, "intersection seam"},
+          std::pair{scene::CsgOp::difference, "difference seam"}}) {
         test::SceneBuilder b;
-        b.object(test::csg(op, {test::box(c - size * Vec3d{1, 1, 1}, c + size * Vec3d{1, 1, 1}), test::sphere(c, 1.3 * size)}));
+        b.object(test::csg(
+            op, {test::box(c - size * Vec3d{1, 1, 1}, c + size * Vec3d{1, 1, 1}), test::sphere(c, 1.3 * size)}));
         Vec3d seam = c + size * Vec3d{1, std::sqrt(0.69), 0};
         Vec3d d = unit({-1, 0, 0.3});
-        out.push_back({name, b.build(), size,
-                       [=](double delta) { return std::pair{seam - (4 * size) * d + (size * delta) * Vec3d{0, 1, 0}, d}; }});
+        out.push_back({name, b.build(), size, [=](double delta) {
+                           return std::pair{seam - (4 * size) * d + (size * delta) * Vec3d{0, 1, 0}, d};
+                       }});
     }
     return out;
 }
 
 // δ_band = 16·u·(1 + shift/size): the ray's origin, 4 sizes from the object, and every coordinate are
 // rounded by u·(|shift| + 5·size), and each formula rounds a few times more. Measured: at most 8·u.
-double band(TracerKind kind, double size, double shift) { return 16 * unit_roundoff(kind) * (1 + shift / size); }
+double band(TracerKind kind, double size, double shift) {
+    return 16 * unit_roundoff(kind) * (1 + shift / size);
+}
 
 class ExtremesGrazing : public twinray::test::EachTracer {};
 
@@ -181,7 +208,8 @@ TEST_P(ExtremesGrazing, HitOrMissFlipsOnlyInsideTheStatedBandAndTAndNormalsStayB
     double u = unit_roundoff(kind);
     for (auto [size, shift] : {std::pair{1.0, 0.0}, std::pair{1e-3, 0.0}, std::pair{1e4, 0.0}, std::pair{1.0, 1e3}}) {
         for (const Family& family : families(size, shift)) {
-            scene::Scene held = kind == TracerKind::reference_double ? family.scene : twinray::numerics::rounded_to_float(family.scene);
+            scene::Scene held =
+                kind == TracerKind::reference_double ? family.scene : twinray::numerics::rounded_to_float(family.scene);
             auto tracer = twinray::numerics::make_tracer(family.scene, kind);
             double widest_disagreement = 0, worst_t = 0, worst_normal = 0;
             int rays = 0, hits = 0;
@@ -209,22 +237,23 @@ TEST_P(ExtremesGrazing, HitOrMissFlipsOnlyInsideTheStatedBandAndTAndNormalsStayB
                     Vec3d across = cross(hit.normal, truth.normal);
                     double angle = std::atan2(std::sqrt(dot(across, across)), std::fabs(dot(hit.normal, truth.normal)));
                     double normal_error = angle / (4 * u * s / (family.size * cosine));
-                    EXPECT_LE(t_error, 1.0) << family.name << " (size " << size << ", shift " << shift << ") δ = " << delta
-                                            << ": t " << hit.t << " against " << truth.t;
-                    EXPECT_LE(normal_error, 1.0) << family.name << " (size " << size << ", shift " << shift << ") δ = "
-                                                 << delta << ": normal off by " << angle << " rad";
+                    EXPECT_LE(t_error, 1.0) << family.name << " (size " << size << ", shift " << shift
+                                            << ") δ = " << delta << ": t " << hit.t << " against " << truth.t;
+                    EXPECT_LE(normal_error, 1.0) << family.name << " (size " << size << ", shift " << shift
+                                                 << ") δ = " << delta << ": normal off by " << angle << " rad";
                     worst_t = std::max(worst_t, t_error);
                     worst_normal = std::max(worst_normal, normal_error);
                 }
             }
             EXPECT_LE(widest_disagreement, band(kind, size, shift))
-                << family.name << " (size " << size << ", shift " << shift << "): hit/miss or primitive differs from the exact answer at |δ| = "
-                << widest_disagreement;
+                << family.name << " (size " << size << ", shift " << shift
+                << "): hit/miss or primitive differs from the exact answer at |δ| = " << widest_disagreement;
             EXPECT_GE(hits, 5) << family.name;
-            std::printf("[ measured ] %-16s %-19s size %-6g shift %-5g: widest flip |δ| %.2e (band %.2e); outside: %d hits, "
-                        "t at most %.3f and normal %.3f of their bounds\n",
-                        twinray::numerics::tracer_name(kind), family.name.c_str(), size, shift, widest_disagreement,
-                        band(kind, size, shift), hits, worst_t, worst_normal);
+            std::printf(
+                "[ measured ] %-16s %-19s size %-6g shift %-5g: widest flip |δ| %.2e (band %.2e); outside: %d hits, "
+                "t at most %.3f and normal %.3f of their bounds\n",
+                twinray::numerics::tracer_name(kind), family.name.c_str(), size, shift, widest_disagreement,
+                band(kind, size, shift), hits, worst_t, worst_normal);
         }
     }
 }

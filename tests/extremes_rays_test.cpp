@@ -28,7 +28,9 @@ struct Outcome {
     std::array<double, 3> point{}, normal{}, color{};
 };
 
-bool all_finite(const std::array<double, 3>& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+bool all_finite(const std::array<double, 3>& v) {
+    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
 
 // intersect() and trace() of one ray, in each tracer's own types.
 template <typename Tracer, typename Ray, typename Vec>
@@ -43,8 +45,10 @@ Outcome run(const Tracer& tracer, std::array<double, 6> ray) {
     if (hit) {
         outcome.hit = true;
         outcome.t = static_cast<double>(hit->t);
-        outcome.point = {static_cast<double>(hit->point.x), static_cast<double>(hit->point.y), static_cast<double>(hit->point.z)};
-        outcome.normal = {static_cast<double>(hit->normal.x), static_cast<double>(hit->normal.y), static_cast<double>(hit->normal.z)};
+        outcome.point = {static_cast<double>(hit->point.x), static_cast<double>(hit->point.y),
+                         static_cast<double>(hit->point.z)};
+        outcome.normal = {static_cast<double>(hit->normal.x), static_cast<double>(hit->normal.y),
+                          static_cast<double>(hit->normal.z)};
     }
     return outcome;
 }
@@ -54,9 +58,13 @@ std::vector<std::pair<std::string, Outcome>> run_all(const scene::Scene& scene, 
     std::vector<std::pair<std::string, Outcome>> outcomes;
     twinray::reference::Tracer<double> reference(scene);
     twinray::reference::Tracer<float> reference_float(scene);
-    outcomes.emplace_back("reference", run<decltype(reference), twinray::reference::Ray<double>, twinray::reference::Vec3<double>>(reference, ray));
-    outcomes.emplace_back("reference-float",
-                          run<decltype(reference_float), twinray::reference::Ray<float>, twinray::reference::Vec3<float>>(reference_float, ray));
+    outcomes.emplace_back(
+        "reference",
+        run<decltype(reference), twinray::reference::Ray<double>, twinray::reference::Vec3<double>>(reference, ray));
+    outcomes.emplace_back(
+        "reference-float",
+        run<decltype(reference_float), twinray::reference::Ray<float>, twinray::reference::Vec3<float>>(reference_float,
+                                                                                                        ray));
     if (twinray::sse::cpu_supports_sse41()) {
         twinray::sse::Tracer sse(scene);
         outcomes.emplace_back("sse", run<twinray::sse::Tracer, twinray::sse::Ray, twinray::sse::Vec3>(sse, ray));
@@ -66,11 +74,14 @@ std::vector<std::pair<std::string, Outcome>> run_all(const scene::Scene& scene, 
 
 std::string describe(std::array<double, 6> ray) {
     char text[200];
-    std::snprintf(text, sizeof text, "ray (%g, %g, %g) -> (%g, %g, %g)", ray[0], ray[1], ray[2], ray[3], ray[4], ray[5]);
+    std::snprintf(text, sizeof text, "ray (%g, %g, %g) -> (%g, %g, %g)", ray[0], ray[1], ray[2], ray[3], ray[4],
+                  ray[5]);
     return text;
 }
 
-scene::Scene showcase() { return scene::load_scene(std::string(TWINRAY_SOURCE_DIR) + "/scenes/showcase.json"); }
+scene::Scene showcase() {
+    return scene::load_scene(std::string(TWINRAY_SOURCE_DIR) + "/scenes/showcase.json");
+}
 
 TEST(ExtremesRays, BadRaysThroughThePerRayApiAreMissesThatSeeTheBackground) {
     scene::Scene scene = showcase();
@@ -78,9 +89,12 @@ TEST(ExtremesRays, BadRaysThroughThePerRayApiAreMissesThatSeeTheBackground) {
     constexpr double inf = std::numeric_limits<double>::infinity();
     // Each of these would hit the glass sphere (centre (0, 1.2, 0.8)) if it were a ray.
     const std::array<double, 6> bad[] = {
-        {nan, 1.2, 10, 0, 0, -1}, {0, nan, 10, 0, 0, -1}, {0, 1.2, nan, 0, 0, -1}, {0, 1.2, 10, nan, 0, -1},
-        {0, 1.2, 10, 0, nan, -1}, {0, 1.2, 10, 0, 0, nan}, {inf, 1.2, 10, 0, 0, -1}, {0, 1.2, -inf, 0, 0, -1},
-        {0, 1.2, 10, 0, 0, -inf}, {0, 1.2, 10, inf, 0, -inf}, {0, 1.2, 10, 0, 0, 0}, {0, 1.2, 10, 0, 0, -2},
+        {nan, 1.2, 10, 0, 0, -1},   {0, nan, 10, 0, 0, -1},
+        {0, 1.2, nan, 0, 0, -1},    {0, 1.2, 10, nan, 0, -1},
+        {0, 1.2, 10, 0, nan, -1},   {0, 1.2, 10, 0, 0, nan},
+        {inf, 1.2, 10, 0, 0, -1},   {0, 1.2, -inf, 0, 0, -1},
+        {0, 1.2, 10, 0, 0, -inf},   {0, 1.2, 10, inf, 0, -inf},
+        {0, 1.2, 10, 0, 0, 0},      {0, 1.2, 10, 0, 0, -2},
         {0, 1.2, 10, 0, 0, -1e-40}, {0, 1.2, 10, 1e-45, 1e-45, -1e-45},
     };
     for (const auto& ray : bad) {
@@ -99,8 +113,8 @@ TEST(ExtremesRays, BadRaysThroughThePerRayApiAreMissesThatSeeTheBackground) {
 TEST(ExtremesRays, DenormalComponentsAndOriginsAtTheLimitOfFloatGiveFiniteResults) {
     scene::Scene scene = showcase();
     const std::array<double, 6> extreme[] = {
-        {0, 1.2, 10, 1e-40, 1e-39, -1},      {0, 1.2, 10, -1e-44, 0, -1},        {FLT_MAX, 1.2, 0.8, -1, 0, 0},
-        {-FLT_MAX, 1.2, 0.8, 1, 0, 0},       {0, FLT_MAX, 0.8, 0, -1, 0},        {0, 1.2, -FLT_MAX, 0, 0, 1},
+        {0, 1.2, 10, 1e-40, 1e-39, -1},        {0, 1.2, 10, -1e-44, 0, -1},    {FLT_MAX, 1.2, 0.8, -1, 0, 0},
+        {-FLT_MAX, 1.2, 0.8, 1, 0, 0},         {0, FLT_MAX, 0.8, 0, -1, 0},    {0, 1.2, -FLT_MAX, 0, 0, 1},
         {FLT_MAX, FLT_MAX, FLT_MAX, -1, 0, 0}, {0, 1.2, 10, 0.6, 1e-38, -0.8},
     };
     for (const auto& ray : extreme) {
@@ -122,7 +136,7 @@ TEST(ExtremesRays, DenormalComponentsAndOriginsAtTheLimitOfFloatGiveFiniteResult
 struct ParallelCase {
     const char* what;
     std::array<double, 6> ray;
-    std::optional<double> t;  // the exact first hit; nullopt: a miss
+    std::optional<double> t;       // the exact first hit; nullopt: a miss
     std::array<double, 3> normal;  // its normal line; zero at a box corner, where any of its three faces' will do
 };
 
@@ -132,18 +146,24 @@ struct ParallelCase {
 TEST(ExtremesRays, ParallelRaysToPlanesBoxFacesAndCylinderAxesGiveTheExactAnswerWithoutNaN) {
     test::SceneBuilder builder;
     builder.object(test::plane({0, 1, 0}, -2));                  // y = -2
-    builder.object(test::box({-1, -1, -1}, {1, 1, 1}));           // the unit box
-    builder.object(test::cylinder({4, -1, 0}, {4, 1, 0}, 0.5));   // axis along y through x = 4
+    builder.object(test::box({-1, -1, -1}, {1, 1, 1}));          // the unit box
+    builder.object(test::cylinder({4, -1, 0}, {4, 1, 0}, 0.5));  // axis along y through x = 4
     scene::Scene scene = builder.build();
     const ParallelCase cases[] = {
         {"just above the plane, parallel", {-10, -1.999, 5, 1, 0, 0}, std::nullopt, {}},
         {"exactly within the plane", {-10, -2, 5, 1, 0, 0}, std::nullopt, {}},
         {"just below the plane, parallel (inside its half-space)", {-10, -2.001, 5, 1, 0, 0}, std::nullopt, {}},
-        {"towards the plane at a slope of 2^-30", {0, -1.5, 5, 1, -std::ldexp(1.0, -30), 0}, std::ldexp(1.0, 29), {0, 1, 0}},
+        {"towards the plane at a slope of 2^-30",
+         {0, -1.5, 5, 1, -std::ldexp(1.0, -30), 0},
+         std::ldexp(1.0, 29),
+         {0, 1, 0}},
         {"within the box's face plane y = 1", {-10, 1, 0, 1, 0, 0}, std::nullopt, {}},
         {"along the box's edge y = 1, z = 1", {-10, 1, 1, 1, 0, 0}, std::nullopt, {}},
         {"just inside the face plane y = 1", {-10, 0.999, 0, 1, 0, 0}, 9.0, {-1, 0, 0}},
-        {"through the box's corner (1, 1, 1)", {3, 3, 3, -1 / std::sqrt(3.0), -1 / std::sqrt(3.0), -1 / std::sqrt(3.0)}, 2 * std::sqrt(3.0), {0, 0, 0}},
+        {"through the box's corner (1, 1, 1)",
+         {3, 3, 3, -1 / std::sqrt(3.0), -1 / std::sqrt(3.0), -1 / std::sqrt(3.0)},
+         2 * std::sqrt(3.0),
+         {0, 0, 0}},
         {"along the cylinder's axis", {4, 10, 0, 0, -1, 0}, 9.0, {0, 1, 0}},
         {"along the cylinder's side line: past it, onto the plane", {4.5, 10, 0, 0, -1, 0}, 12.0, {0, 1, 0}},
         {"just inside the side line, along the axis", {4.499, 10, 0, 0, -1, 0}, 9.0, {0, 1, 0}},

@@ -3,8 +3,8 @@
 // seen from 100 … 10 000 times farther, traced by each tracer through numerics::measure, the code behind
 // `twinray numerics`. Each test prints its measured figures.
 #include "numerics/numerics.h"
-#include "tests/extremes.h"
 #include "scene/loader.h"
+#include "tests/extremes.h"
 
 #include <gtest/gtest.h>
 
@@ -29,7 +29,6 @@ struct Row {
     ScaleCase scale_case;
     Measurement measured;
 };
-
 
 std::vector<Row> measure_every_case(TracerKind kind) {
     std::vector<fs::path> files;
@@ -67,8 +66,8 @@ TEST_P(ExtremesScale, HitPointsStayWithinSixteenUnitRoundoffsOfSizePlusDistance)
     std::string worst;
     for (const Row& row : measure_every_case(GetParam())) {
         double bound = 16 * u * (1 + row.scale_case.shift / row.scale_case.scale);
-        EXPECT_LE(row.measured.max_error, bound) << describe(row) << ": hit point off its surface by "
-                                                 << row.measured.max_error << " of the size";
+        EXPECT_LE(row.measured.max_error, bound)
+            << describe(row) << ": hit point off its surface by " << row.measured.max_error << " of the size";
         EXPECT_GT(row.measured.hits, 0) << describe(row);
         double ratio = row.measured.max_error / (u * (1 + row.scale_case.shift / row.scale_case.scale));
         if (!(ratio <= worst_ratio)) {

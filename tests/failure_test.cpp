@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/mount.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -16,17 +18,15 @@
 #include <map>
 #include <regex>
 #include <string>
-#include <sys/mount.h>
 #include <thread>
-#include <unistd.h>
 #include <vector>
 
 namespace {
 
 namespace fs = std::filesystem;
 using twinray::test::CommandResult;
-using twinray::test::RunningTwinray;
 using twinray::test::run_twinray;
+using twinray::test::RunningTwinray;
 using namespace std::chrono_literals;
 
 // The exit statuses under test (src/cli/exit_codes.h, the README's table).
@@ -36,7 +36,9 @@ constexpr int output_error = 3;
 constexpr int interrupted = 130;
 constexpr int killed = 128 + SIGKILL;
 
-std::string scene(const std::string& name) { return std::string(TWINRAY_SOURCE_DIR) + "/scenes/" + name; }
+std::string scene(const std::string& name) {
+    return std::string(TWINRAY_SOURCE_DIR) + "/scenes/" + name;
+}
 
 std::string read_bytes(const fs::path& path) {
     std::ifstream stream(path, std::ios::binary);
@@ -95,7 +97,8 @@ TEST_F(FailureTest, EveryFileTwinrayWritesGoesThroughTheAtomicWriter) {
         {"std::ofstream / fstream", std::regex(R"(\bofstream\b|\bstd::fstream\b)")},
         {"fopen for writing", std::regex(R"(fopen\s*\([^;]*"[wa])")},
         {"OpenImageIO ImageOutput", std::regex(R"(ImageOutput::create)")},
-        {"OpenImageIO ImageBuf::write", std::regex(R"(\bImageBuf\b[^;]*\.write\s*\(|\b\w+\s*\.\s*write\s*\(\s*[\w.]*(path|file|output))")},
+        {"OpenImageIO ImageBuf::write",
+         std::regex(R"(\bImageBuf\b[^;]*\.write\s*\(|\b\w+\s*\.\s*write\s*\(\s*[\w.]*(path|file|output))")},
         {"POSIX open/creat for writing", std::regex(R"(\bO_(CREAT|WRONLY|RDWR)\b|\bcreat\s*\()")},
         {"file copy or rename", std::regex(R"(\b(copy_file|rename)\s*\()")},
     };
@@ -121,23 +124,25 @@ TEST_F(FailureTest, EveryFileTwinrayWritesGoesThroughTheAtomicWriter) {
                     continue;
                 }
                 auto allowance = allowed.find(relative);
-                bool ok = allowance != allowed.end() &&
-                          std::find(allowance->second.begin(), allowance->second.end(), what) != allowance->second.end();
-                EXPECT_TRUE(ok) << relative << " uses " << what
-                                << ": write through io::write_atomically / write_text_atomically (src/io/atomic_file.h) "
-                                   "or write_image, so that a failure never leaves a partial file";
+                bool ok = allowance != allowed.end() && std::find(allowance->second.begin(), allowance->second.end(),
+                                                                  what) != allowance->second.end();
+                EXPECT_TRUE(ok)
+                    << relative << " uses " << what
+                    << ": write through io::write_atomically / write_text_atomically (src/io/atomic_file.h) "
+                       "or write_image, so that a failure never leaves a partial file";
             }
         }
     }
     EXPECT_GT(files_read, 10);
     // The two allowed writers do write through the temporary.
-    EXPECT_NE(read_bytes(fs::path(TWINRAY_SOURCE_DIR) / "src/image/image_file.cpp").find("io::write_atomically"), std::string::npos);
+    EXPECT_NE(read_bytes(fs::path(TWINRAY_SOURCE_DIR) / "src/image/image_file.cpp").find("io::write_atomically"),
+              std::string::npos);
 }
 
 TEST_F(FailureTest, RenderKilledMidwayLeavesTheExistingImageIntactAndNoTemporaryFile) {
     std::string before = existing_image("showcase.png");
-    RunningTwinray render({"render", scene("showcase.json"), "--width", "3000", "--tracer", "reference", "--threads", "2",
-                           "-o", path("showcase.png").string()});
+    RunningTwinray render({"render", scene("showcase.json"), "--width", "3000", "--tracer", "reference", "--threads",
+                           "2", "-o", path("showcase.png").string()});
     ASSERT_TRUE(render.started());
     // Rendering: the render command has begun (its SIGINT handler is in) and two workers are busy.
     ASSERT_TRUE(render.wait_until([&] { return render.catches_sigint() && render.running_threads() >= 2; }, 20s))
@@ -182,7 +187,8 @@ INSTANTIATE_TEST_SUITE_P(Tracers, CtrlCTest, ::testing::Values("sse", "reference
 TEST_F(FailureTest, OutputUnderAFileIsRefusedWithStatusThree) {
     // Root may write anywhere, but not below something that is not a folder (/dev/full/x.png alike).
     write_bytes(path("not_a_folder"), "x");
-    CommandResult result = run_twinray("render " + scene("spheres.json") + " -o " + path("not_a_folder/s.png").string());
+    CommandResult result =
+        run_twinray("render " + scene("spheres.json") + " -o " + path("not_a_folder/s.png").string());
     EXPECT_EQ(result.exit_status, output_error) << result.output;
     EXPECT_NE(result.output.find("cannot write"), std::string::npos) << result.output;
     EXPECT_EQ(files(), std::vector<std::string>{"not_a_folder"});
@@ -194,7 +200,8 @@ TEST_F(FailureTest, FolderThatRefusesNewFilesFailsWithStatusThreeEvenForRoot) {
     if (!fs::is_directory("/proc/self")) {
         GTEST_SKIP() << "no procfs at /proc";
     }
-    CommandResult result = run_twinray("render " + scene("spheres.json") + " --width 16 -o /proc/twinray-failure-test.png");
+    CommandResult result =
+        run_twinray("render " + scene("spheres.json") + " --width 16 -o /proc/twinray-failure-test.png");
     EXPECT_EQ(result.exit_status, output_error) << result.output;
     EXPECT_NE(result.output.find("cannot write /proc/twinray-failure-test.png"), std::string::npos) << result.output;
 }
@@ -216,7 +223,8 @@ TEST_F(FailureTest, ReadOnlyFolderIsRefusedWithStatusThree) {
     }
     fs::permissions(folder_, fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write,
                     fs::perm_options::remove);
-    CommandResult result = run_twinray("render " + path("spheres.json").string() + " -o " + path("s.png").string(), run_as);
+    CommandResult result =
+        run_twinray("render " + path("spheres.json").string() + " -o " + path("s.png").string(), run_as);
     EXPECT_EQ(result.exit_status, output_error) << result.output;
     EXPECT_NE(result.output.find("not writable"), std::string::npos) << result.output;
     EXPECT_EQ(files(), std::vector<std::string>{"spheres.json"}) << "nothing written beside the scene";
@@ -240,7 +248,8 @@ TEST_F(FailureTest, OutputBelowAFolderThatMayNotBeEnteredIsRefusedWithStatusThre
 
 TEST_F(FailureTest, MissingOrUnreadableSceneFailsWithStatusTwoAndKeepsTheOldImage) {
     std::string before = existing_image("out.png");
-    CommandResult missing = run_twinray("render " + path("no_such_scene.json").string() + " -o " + path("out.png").string());
+    CommandResult missing =
+        run_twinray("render " + path("no_such_scene.json").string() + " -o " + path("out.png").string());
     EXPECT_EQ(missing.exit_status, invalid_scene) << missing.output;
     EXPECT_NE(missing.output.find("no_such_scene.json: cannot open file"), std::string::npos) << missing.output;
     CommandResult folder = run_twinray("render " + folder_.string() + " -o " + path("out.png").string());
@@ -294,7 +303,8 @@ TEST_F(FailureTest, FullFilesystemFailsWithStatusThreeAndKeepsTheOldImage) {
 // The format allows 16384 x 16384, but that image alone is 3 GiB of float pixels. render refuses more
 // than 8192 x 8192 pixels (67108864) before allocating anything.
 TEST_F(FailureTest, HugeImageIsRefusedBeforeAllocatingWithStatusOne) {
-    RunningTwinray render({"render", scene("spheres.json"), "--width", "16384", "--height", "16384", "-o", path("huge.png").string()});
+    RunningTwinray render(
+        {"render", scene("spheres.json"), "--width", "16384", "--height", "16384", "-o", path("huge.png").string()});
     CommandResult result = render.wait();
     EXPECT_EQ(result.exit_status, usage_error) << result.output;
     EXPECT_NE(result.output.find("16384 x 16384"), std::string::npos) << result.output;
@@ -305,12 +315,14 @@ TEST_F(FailureTest, HugeImageIsRefusedBeforeAllocatingWithStatusOne) {
 }
 
 TEST_F(FailureTest, OnePixelRowPastTheLimitIsRefusedAndSoIsASceneThatAsksTooMuch) {
-    CommandResult past = run_twinray("render " + scene("spheres.json") + " --width 8192 --height 8193 -o " + path("a.png").string());
+    CommandResult past =
+        run_twinray("render " + scene("spheres.json") + " --width 8192 --height 8193 -o " + path("a.png").string());
     EXPECT_EQ(past.exit_status, usage_error) << past.output;
     EXPECT_NE(past.output.find("67117056 pixels"), std::string::npos) << past.output;
     // A scene may ask for 16384 x 16384 (the format allows it); render still refuses it.
     std::string text = read_bytes(scene("spheres.json"));
-    text = std::regex_replace(text, std::regex(R"("image"\s*:\s*\{[^}]*\})"), R"("image": { "width": 16384, "height": 16384 })");
+    text = std::regex_replace(text, std::regex(R"("image"\s*:\s*\{[^}]*\})"),
+                              R"("image": { "width": 16384, "height": 16384 })");
     write_bytes(path("huge_scene.json"), text);
     CommandResult huge = run_twinray("render " + path("huge_scene.json").string() + " -o " + path("b.png").string());
     EXPECT_EQ(huge.exit_status, usage_error) << huge.output;
@@ -321,9 +333,11 @@ TEST_F(FailureTest, OnePixelRowPastTheLimitIsRefusedAndSoIsASceneThatAsksTooMuch
 TEST_F(FailureTest, DerivedSideBeyondTheFormatsLimitIsAUsageError) {
     // A tall scene: --width 8000 alone keeps the aspect ratio, so the height would be 32000.
     std::string text = read_bytes(scene("spheres.json"));
-    text = std::regex_replace(text, std::regex(R"("image"\s*:\s*\{[^}]*\})"), R"("image": { "width": 100, "height": 400 })");
+    text = std::regex_replace(text, std::regex(R"("image"\s*:\s*\{[^}]*\})"),
+                              R"("image": { "width": 100, "height": 400 })");
     write_bytes(path("tall.json"), text);
-    CommandResult result = run_twinray("render " + path("tall.json").string() + " --width 8000 -o " + path("t.png").string());
+    CommandResult result =
+        run_twinray("render " + path("tall.json").string() + " --width 8000 -o " + path("t.png").string());
     EXPECT_EQ(result.exit_status, usage_error) << result.output;
     EXPECT_NE(result.output.find("height"), std::string::npos) << result.output;
     EXPECT_EQ(files(), std::vector<std::string>{"tall.json"});

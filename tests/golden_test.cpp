@@ -1,11 +1,11 @@
 // The reference tracer against its stored images (golden/): any change to the reference's output shows
 // here, with an error map, and is accepted only on purpose (`twinray golden --update`).
-#include "tests/scene_files.h"
 #include "compare/image_compare.h"
 #include "compare/tolerances.h"
 #include "image/image_file.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
+#include "tests/scene_files.h"
 
 #include <gtest/gtest.h>
 
@@ -25,7 +25,8 @@ class Golden : public ::testing::TestWithParam<fs::path> {};
 TEST_P(Golden, ReferenceRenderMatchesItsGoldenImage) {
     const std::string name = GetParam().stem().string();
     const fs::path golden = fs::path(TWINRAY_SOURCE_DIR) / "golden" / (name + ".png");
-    const std::string update = "twinray golden --update scenes/" + name + ".json (from the repository root), or "
+    const std::string update = "twinray golden --update scenes/" + name +
+                               ".json (from the repository root), or "
                                "cmake --build --preset release --target update-golden for every scene";
     ASSERT_TRUE(fs::exists(golden)) << golden << " is missing; create it with: " << update;
 
@@ -35,26 +36,32 @@ TEST_P(Golden, ReferenceRenderMatchesItsGoldenImage) {
     ASSERT_EQ(actual.width(), expected.width()) << "golden image size differs; if intended: " << update;
     ASSERT_EQ(actual.height(), expected.height()) << "golden image size differs; if intended: " << update;
 
-    auto manifest = twinray::compare::ToleranceManifest::load(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "tolerances.json");
+    auto manifest =
+        twinray::compare::ToleranceManifest::load(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "tolerances.json");
     twinray::compare::Thresholds thresholds = manifest.for_scene(name).golden;
     twinray::compare::Metrics metrics = twinray::compare::measure(expected, actual, thresholds);
     twinray::compare::Verdict verdict = twinray::compare::judge(metrics, thresholds);
-    std::printf("[ measured ] %s golden: %ld pixels changed by a level or more, max %.0f/255 at %d,%d -> %s\n", name.c_str(),
-                metrics.fail_pixels, metrics.max_error * 255.0, metrics.max_x, metrics.max_y, twinray::compare::to_string(verdict));
+    std::printf("[ measured ] %s golden: %ld pixels changed by a level or more, max %.0f/255 at %d,%d -> %s\n",
+                name.c_str(), metrics.fail_pixels, metrics.max_error * 255.0, metrics.max_x, metrics.max_y,
+                twinray::compare::to_string(verdict));
     RecordProperty("changed_pixels", std::to_string(metrics.fail_pixels));
     if (verdict == twinray::compare::Verdict::fail) {
         fs::path folder = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "golden";
         fs::create_directories(folder);
         twinray::write_image(actual, folder / (name + "_actual.png"));
-        twinray::write_image(twinray::compare::error_heat_map(expected, actual, 4.0 / 255.0), folder / (name + "_error.png"));
+        twinray::write_image(twinray::compare::error_heat_map(expected, actual, 4.0 / 255.0),
+                             folder / (name + "_error.png"));
         ADD_FAILURE() << name << ": the reference render differs from " << golden << " (" << metrics.fail_pixels
-                      << " pixels, max " << metrics.max_error * 255.0 << "/255 at " << metrics.max_x << "," << metrics.max_y
-                      << "). Actual image and error map: " << folder.string() << "/" << name << "_{actual,error}.png. "
+                      << " pixels, max " << metrics.max_error * 255.0 << "/255 at " << metrics.max_x << ","
+                      << metrics.max_y << "). Actual image and error map: " << folder.string() << "/" << name
+                      << "_{actual,error}.png. "
                       << "If the change is intended: " << update;
     }
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Golden, ::testing::ValuesIn(scene_files()),
-                         [](const ::testing::TestParamInfo<fs::path>& param_info) { return param_info.param.stem().string(); });
+                         [](const ::testing::TestParamInfo<fs::path>& param_info) {
+                             return param_info.param.stem().string();
+                         });
 
 }  // namespace

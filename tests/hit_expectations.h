@@ -44,15 +44,15 @@ inline void check_hit(const std::optional<Hit<double>>& hit, V direction, const 
 
 }  // namespace twinray::test
 
-#define EXPECT_HIT(scene, origin, direction, ...)                                                \
-    do {                                                                                         \
-        SCOPED_TRACE("ray from " #origin " along " #direction);                                  \
+#define EXPECT_HIT(scene, origin, direction, ...)                                                             \
+    do {                                                                                                      \
+        SCOPED_TRACE("ray from " #origin " along " #direction);                                               \
         twinray::test::check_hit(twinray::test::first_hit(scene, origin, direction), direction, __VA_ARGS__); \
     } while (false)
 
-#define EXPECT_MISS(scene, origin, direction)                                                      \
-    do {                                                                                           \
-        auto miss_ = twinray::test::first_hit(scene, origin, direction);                           \
-        EXPECT_FALSE(miss_.has_value()) << "ray from " #origin " along " #direction " hit at t = " \
-                                        << miss_->t << ", leaf " << miss_->leaf;                   \
+#define EXPECT_MISS(scene, origin, direction)                                                                  \
+    do {                                                                                                       \
+        auto miss_ = twinray::test::first_hit(scene, origin, direction);                                       \
+        EXPECT_FALSE(miss_.has_value()) << "ray from " #origin " along " #direction " hit at t = " << miss_->t \
+                                        << ", leaf " << miss_->leaf;                                           \
     } while (false)

@@ -25,8 +25,7 @@ const std::filesystem::path source_dir = TWINRAY_SOURCE_DIR;
 const std::filesystem::path malformed_dir = source_dir / "tests" / "data" / "malformed";
 const std::filesystem::path scenes_dir = source_dir / "scenes";
 
-std::string repeated(std::string_view text, int count)
-{
+std::string repeated(std::string_view text, int count) {
     std::string result;
     for (int i = 0; i < count; ++i) {
         result += text;
@@ -35,10 +34,10 @@ std::string repeated(std::string_view text, int count)
 }
 
 // gtest parameter names allow only letters, digits and underscores.
-std::string test_name_from(const std::filesystem::path& file)
-{
+std::string test_name_from(const std::filesystem::path& file) {
     std::string name = file.stem().string();
-    std::replace_if(name.begin(), name.end(), [](unsigned char c) { return !std::isalnum(c); }, '_');
+    std::replace_if(
+        name.begin(), name.end(), [](unsigned char c) { return !std::isalnum(c); }, '_');
     return name;
 }
 
@@ -51,7 +50,9 @@ struct Malformed {
     std::string problem_fragment;
 };
 
-void PrintTo(const Malformed& malformed, std::ostream* out) { *out << malformed.file; }
+void PrintTo(const Malformed& malformed, std::ostream* out) {
+    *out << malformed.file;
+}
 
 const std::vector<Malformed> malformed_scenes = {
     // JSON syntax: the location is where the parser stopped, counted from 1.
@@ -151,7 +152,8 @@ const std::vector<Malformed> malformed_scenes = {
     {"csg_unknown_key_on_node.json", "objects[0].radius",
      "unknown key \"radius\"; allowed keys for a difference: type, children, material"},
     {"csg_nested_bad_radius.json", "objects[1].children[1].children[0].radius", "must be > 0, got -2"},
-    {"csg_nested_unknown_key.json", "objects[0].children[1].colour", "allowed keys for a box: type, min, max, material"},
+    {"csg_nested_unknown_key.json", "objects[0].children[1].colour",
+     "allowed keys for a box: type, min, max, material"},
     {"csg_nested_too_deep.json", "objects[0]" + repeated(".children[0]", 64), "nested deeper than 64 levels"},
     // Material names must exist in materials.
     {"material_name_unknown.json", "objects[1].material", "unknown material \"glas\"; materials defined: floor, glass"},
@@ -162,8 +164,7 @@ const std::vector<Malformed> malformed_scenes = {
 
 class MalformedScene : public ::testing::TestWithParam<Malformed> {};
 
-TEST_P(MalformedScene, IsRefusedWithItsPathAndWhatIsAllowed)
-{
+TEST_P(MalformedScene, IsRefusedWithItsPathAndWhatIsAllowed) {
     const Malformed& expected = GetParam();
     const std::filesystem::path file = malformed_dir / expected.file;
     try {
@@ -181,8 +182,7 @@ TEST_P(MalformedScene, IsRefusedWithItsPathAndWhatIsAllowed)
 INSTANTIATE_TEST_SUITE_P(OneRuleBrokenPerFile, MalformedScene, ::testing::ValuesIn(malformed_scenes),
                          [](const auto& test) { return test_name_from(test.param.file); });
 
-TEST(MalformedSceneTable, CoversEveryFileInTheMalformedDirectory)
-{
+TEST(MalformedSceneTable, CoversEveryFileInTheMalformedDirectory) {
     std::set<std::string> listed;
     for (const Malformed& malformed : malformed_scenes) {
         listed.insert(malformed.file);
@@ -197,8 +197,7 @@ TEST(MalformedSceneTable, CoversEveryFileInTheMalformedDirectory)
 // ---------------------------------------------------------------------------------------------------
 // Every shipped scene loads.
 
-std::vector<std::filesystem::path> shipped_scenes()
-{
+std::vector<std::filesystem::path> shipped_scenes() {
     std::vector<std::filesystem::path> files;
     std::error_code missing_directory;
     for (const auto& entry : std::filesystem::directory_iterator(scenes_dir, missing_directory)) {
@@ -212,8 +211,7 @@ std::vector<std::filesystem::path> shipped_scenes()
 
 class ShippedScene : public ::testing::TestWithParam<std::filesystem::path> {};
 
-TEST_P(ShippedScene, Loads)
-{
+TEST_P(ShippedScene, Loads) {
     try {
         load_scene(GetParam());
     } catch (const SceneError& error) {
@@ -226,8 +224,7 @@ INSTANTIATE_TEST_SUITE_P(ScenesDirectory, ShippedScene, ::testing::ValuesIn(ship
 // An empty directory instantiates nothing; ScenesDirectoryIsNotEmpty below reports that instead.
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(ShippedScene);
 
-TEST(ShippedScenes, ScenesDirectoryIsNotEmpty)
-{
+TEST(ShippedScenes, ScenesDirectoryIsNotEmpty) {
     EXPECT_FALSE(shipped_scenes().empty())
         << "no scenes/*.json in " << scenes_dir << ": the test that every shipped scene loads has nothing to check";
 }
@@ -235,17 +232,17 @@ TEST(ShippedScenes, ScenesDirectoryIsNotEmpty)
 // ---------------------------------------------------------------------------------------------------
 // What the loader fills in.
 
-Scene parse(std::string_view text) { return parse_scene(text, "<test>"); }
+Scene parse(std::string_view text) {
+    return parse_scene(text, "<test>");
+}
 
 constexpr std::string_view camera_block = R"("camera": { "eye": [0, 1, 5], "look_at": [0, 1, 0] })";
 
-Scene parse_with_camera(std::string_view blocks)
-{
+Scene parse_with_camera(std::string_view blocks) {
     return parse("{ " + std::string(camera_block) + ", " + std::string(blocks) + " }");
 }
 
-void expect_default_material(const Material& material)
-{
+void expect_default_material(const Material& material) {
     EXPECT_EQ(material.color, (Vec3{1, 1, 1}));
     EXPECT_EQ(material.ambient, 0.1);
     EXPECT_EQ(material.diffuse, 0.6);
@@ -256,8 +253,7 @@ void expect_default_material(const Material& material)
     EXPECT_EQ(material.ior, 1);
 }
 
-TEST(SceneLoader, MinimalSceneGetsEveryDefault)
-{
+TEST(SceneLoader, MinimalSceneGetsEveryDefault) {
     const Scene scene = parse_with_camera(R"("objects": [])");
     EXPECT_EQ(scene.width, 320);
     EXPECT_EQ(scene.height, 240);
@@ -276,8 +272,7 @@ TEST(SceneLoader, MinimalSceneGetsEveryDefault)
     EXPECT_TRUE(scene.leaf_paths.empty());
 }
 
-TEST(SceneLoader, OmittedMaterialAndLightKeysTakeTheirDefaults)
-{
+TEST(SceneLoader, OmittedMaterialAndLightKeysTakeTheirDefaults) {
     const Scene scene = parse_with_camera(R"("materials": { "plain": {} },
                                              "lights": [ { "position": [1, 2, 3] } ], "objects": [])");
     ASSERT_EQ(scene.materials.size(), 2u);
@@ -287,8 +282,7 @@ TEST(SceneLoader, OmittedMaterialAndLightKeysTakeTheirDefaults)
     EXPECT_EQ(scene.lights[0].color, (Vec3{1, 1, 1}));
 }
 
-TEST(SceneLoader, GivenValuesReplaceTheDefaults)
-{
+TEST(SceneLoader, GivenValuesReplaceTheDefaults) {
     const Scene scene = parse(R"({
         "format": "twinray-scene/1",
         "image": { "width": 64, "height": 48 },
@@ -317,8 +311,7 @@ TEST(SceneLoader, GivenValuesReplaceTheDefaults)
     EXPECT_EQ(scene.lights.at(0).color, (Vec3{0.5, 1, 2}));
 }
 
-TEST(SceneLoader, IntegersWrittenWithAZeroFractionAreAccepted)
-{
+TEST(SceneLoader, IntegersWrittenWithAZeroFractionAreAccepted) {
     const Scene scene = parse_with_camera(R"("image": { "width": 640.0, "height": 4.8e2 }, "max_depth": 5.0,
                                              "objects": [])");
     EXPECT_EQ(scene.width, 640);
@@ -326,8 +319,7 @@ TEST(SceneLoader, IntegersWrittenWithAZeroFractionAreAccepted)
     EXPECT_EQ(scene.max_depth, 5);
 }
 
-TEST(SceneLoader, RangeLimitsThemselvesAreAccepted)
-{
+TEST(SceneLoader, RangeLimitsThemselvesAreAccepted) {
     const Scene scene = parse_with_camera(R"("image": { "width": 1, "height": 16384 }, "max_depth": 64,
                                              "materials": { "black": { "color": [0, 0, 0], "ambient": 0 } },
                                              "objects": [])");
@@ -336,8 +328,7 @@ TEST(SceneLoader, RangeLimitsThemselvesAreAccepted)
     EXPECT_EQ(scene.max_depth, 64);
 }
 
-TEST(SceneLoader, PlaneNormalIsNormalisedAndOffsetKept)
-{
+TEST(SceneLoader, PlaneNormalIsNormalisedAndOffsetKept) {
     const Scene scene = parse_with_camera(R"("objects": [
         { "type": "plane", "normal": [0, 2, 0], "offset": 3 },
         { "type": "plane", "normal": [3, 0, -4], "offset": -1.5 },
@@ -356,8 +347,7 @@ TEST(SceneLoader, PlaneNormalIsNormalisedAndOffsetKept)
     EXPECT_DOUBLE_EQ(huge.normal[2], std::sqrt(0.5));
 }
 
-TEST(SceneLoader, PrimitivesKeepTheirValues)
-{
+TEST(SceneLoader, PrimitivesKeepTheirValues) {
     const Scene scene = parse_with_camera(R"("objects": [
         { "type": "sphere", "center": [1, 2, 3], "radius": 0.5 },
         { "type": "cylinder", "base": [0, 0, 0], "cap": [0, 2, 0], "radius": 0.25 },
@@ -374,8 +364,7 @@ TEST(SceneLoader, PrimitivesKeepTheirValues)
     EXPECT_EQ(box.max, (Vec3{1, 2, 3}));
 }
 
-TEST(SceneLoader, NamedMaterialsFollowTheDefaultInFileOrder)
-{
+TEST(SceneLoader, NamedMaterialsFollowTheDefaultInFileOrder) {
     const Scene scene = parse_with_camera(R"("materials": { "zinc": { "diffuse": 0.2 }, "amber": { "diffuse": 0.9 } },
                                              "objects": [])");
     EXPECT_EQ(scene.material_names, (std::vector<std::string>{"(default)", "zinc", "amber"}));
@@ -405,10 +394,11 @@ constexpr std::string_view nested_csg_scene = R"({
         { "type": "plane", "normal": [0, 1, 0], "offset": 0, "material": "c" }
     ] })";
 
-const Object& child(const Object& csg, std::size_t index) { return std::get<Csg>(csg.shape).children.at(index); }
+const Object& child(const Object& csg, std::size_t index) {
+    return std::get<Csg>(csg.shape).children.at(index);
+}
 
-TEST(SceneLoader, PrimitiveUsesOwnMaterialElseNearestNamingAncestorElseDefault)
-{
+TEST(SceneLoader, PrimitiveUsesOwnMaterialElseNearestNamingAncestorElseDefault) {
     const Scene scene = parse(nested_csg_scene);
     const int a = 1, b = 2, c = 3;
     EXPECT_EQ(scene.leaf_materials, (std::vector<int>{0, b, a, c, a, c}));
@@ -423,8 +413,7 @@ TEST(SceneLoader, PrimitiveUsesOwnMaterialElseNearestNamingAncestorElseDefault)
     EXPECT_EQ(scene.material_of_leaf(3).diffuse, 0.3);
 }
 
-TEST(SceneLoader, LeavesAreNumberedInDocumentOrderWithTheirPaths)
-{
+TEST(SceneLoader, LeavesAreNumberedInDocumentOrderWithTheirPaths) {
     const Scene scene = parse(nested_csg_scene);
     EXPECT_EQ(scene.leaf_paths, (std::vector<std::string>{
                                     "objects[0]",
@@ -446,8 +435,7 @@ TEST(SceneLoader, LeavesAreNumberedInDocumentOrderWithTheirPaths)
     EXPECT_EQ(std::get<Csg>(intersection.shape).op, CsgOp::intersection);
 }
 
-TEST(SceneLoader, ContractExampleLoads)
-{
+TEST(SceneLoader, ContractExampleLoads) {
     const Scene scene = parse(R"({
       "format": "twinray-scene/1",
       "image":  { "width": 320, "height": 240 },
@@ -479,8 +467,7 @@ TEST(SceneLoader, ContractExampleLoads)
     EXPECT_TRUE(scene.has_reflection());
 }
 
-TEST(SceneLoader, OnlyMaterialsInUseMakeASceneTransparentOrReflective)
-{
+TEST(SceneLoader, OnlyMaterialsInUseMakeASceneTransparentOrReflective) {
     const std::string materials = R"("materials": { "glass": { "transmission": 0.9 }, "mirror": { "reflection": 1 } })";
     const Scene unused = parse_with_camera(materials + R"(, "objects": [
         { "type": "sphere", "center": [0, 0, 0], "radius": 1 } ])");
@@ -499,8 +486,7 @@ TEST(SceneLoader, OnlyMaterialsInUseMakeASceneTransparentOrReflective)
     EXPECT_TRUE(inherited.has_csg());
 }
 
-TEST(SceneLoader, CsgNestedSixtyFourLevelsDeepLoads)
-{
+TEST(SceneLoader, CsgNestedSixtyFourLevelsDeepLoads) {
     const std::string sphere = R"({ "type": "sphere", "center": [0, 0, 0], "radius": 1 })";
     std::string object = sphere;
     for (int level = 1; level < 64; ++level) {
@@ -511,16 +497,14 @@ TEST(SceneLoader, CsgNestedSixtyFourLevelsDeepLoads)
     EXPECT_EQ(scene.leaf_paths.size(), 64u);
 }
 
-TEST(SceneLoader, TheSameKeyInDifferentObjectsIsNoDuplicate)
-{
+TEST(SceneLoader, TheSameKeyInDifferentObjectsIsNoDuplicate) {
     const Scene scene = parse_with_camera(R"("objects": [
         { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
         { "type": "sphere", "center": [1, 0, 0], "radius": 2 } ])");
     EXPECT_EQ(scene.objects.size(), 2u);
 }
 
-TEST(SceneLoader, SyntaxErrorIsLocatedByLineAndColumnFromOne)
-{
+TEST(SceneLoader, SyntaxErrorIsLocatedByLineAndColumnFromOne) {
     try {
         parse("{\n  \"objects\": [],\n  \"camera\": x\n}");
         ADD_FAILURE() << "accepted";
@@ -531,8 +515,7 @@ TEST(SceneLoader, SyntaxErrorIsLocatedByLineAndColumnFromOne)
     }
 }
 
-TEST(SceneLoader, MissingFileIsASceneErrorNamingTheFile)
-{
+TEST(SceneLoader, MissingFileIsASceneErrorNamingTheFile) {
     const std::filesystem::path file = malformed_dir / "no_such_scene.json";
     try {
         load_scene(file);
@@ -545,8 +528,7 @@ TEST(SceneLoader, MissingFileIsASceneErrorNamingTheFile)
     }
 }
 
-TEST(SceneLoader, DirectoryIsASceneErrorNotAnEmptyScene)
-{
+TEST(SceneLoader, DirectoryIsASceneErrorNotAnEmptyScene) {
     try {
         load_scene(malformed_dir);
         ADD_FAILURE() << "loaded a directory";
@@ -558,40 +540,34 @@ TEST(SceneLoader, DirectoryIsASceneErrorNotAnEmptyScene)
 // ---------------------------------------------------------------------------------------------------
 // The command-line image size.
 
-Scene scene_of_size(int width, int height)
-{
+Scene scene_of_size(int width, int height) {
     Scene scene;
     scene.width = width;
     scene.height = height;
     return scene;
 }
 
-void expect_size(const ImageSize& size, int width, int height)
-{
+void expect_size(const ImageSize& size, int width, int height) {
     EXPECT_EQ(size.width, width);
     EXPECT_EQ(size.height, height);
 }
 
-TEST(ResolveImageSize, NeitherSideGivenKeepsTheScenesSize)
-{
+TEST(ResolveImageSize, NeitherSideGivenKeepsTheScenesSize) {
     expect_size(resolve_image_size(scene_of_size(320, 240), 0, 0), 320, 240);
 }
 
-TEST(ResolveImageSize, BothSidesGivenReplaceTheScenesSize)
-{
+TEST(ResolveImageSize, BothSidesGivenReplaceTheScenesSize) {
     expect_size(resolve_image_size(scene_of_size(320, 240), 100, 300), 100, 300);
 }
 
-TEST(ResolveImageSize, OneSideGivenScalesTheOtherToTheScenesAspectRatio)
-{
+TEST(ResolveImageSize, OneSideGivenScalesTheOtherToTheScenesAspectRatio) {
     const Scene scene = scene_of_size(320, 240);
     expect_size(resolve_image_size(scene, 640, 0), 640, 480);
     expect_size(resolve_image_size(scene, 0, 480), 640, 480);
     expect_size(resolve_image_size(scene, 100, 0), 100, 75);
 }
 
-TEST(ResolveImageSize, ScaledSideRoundsToTheNearestInteger)
-{
+TEST(ResolveImageSize, ScaledSideRoundsToTheNearestInteger) {
     const Scene scene = scene_of_size(320, 240);
     expect_size(resolve_image_size(scene, 10, 0), 10, 8);   // 7.5 rounds up
     expect_size(resolve_image_size(scene, 11, 0), 11, 8);   // 8.25
@@ -599,14 +575,12 @@ TEST(ResolveImageSize, ScaledSideRoundsToTheNearestInteger)
     expect_size(resolve_image_size(scene, 0, 11), 15, 11);  // 14.67
 }
 
-TEST(ResolveImageSize, ScaledSideIsAtLeastOne)
-{
+TEST(ResolveImageSize, ScaledSideIsAtLeastOne) {
     expect_size(resolve_image_size(scene_of_size(16384, 1), 100, 0), 100, 1);
     expect_size(resolve_image_size(scene_of_size(320, 240), 1, 0), 1, 1);
 }
 
-TEST(ResolveImageSize, SideOutsideOneTo16384IsRefused)
-{
+TEST(ResolveImageSize, SideOutsideOneTo16384IsRefused) {
     const Scene scene = scene_of_size(320, 240);
     EXPECT_THROW(resolve_image_size(scene, 16385, 0), std::invalid_argument);
     EXPECT_THROW(resolve_image_size(scene, -1, 0), std::invalid_argument);
@@ -615,8 +589,7 @@ TEST(ResolveImageSize, SideOutsideOneTo16384IsRefused)
     EXPECT_NO_THROW(resolve_image_size(scene, 16384, 16384));
 }
 
-TEST(ResolveImageSize, ScaledSideBeyond16384IsRefused)
-{
+TEST(ResolveImageSize, ScaledSideBeyond16384IsRefused) {
     EXPECT_THROW(resolve_image_size(scene_of_size(1, 16384), 2, 0), std::invalid_argument);
 }
 

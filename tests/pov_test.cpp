@@ -5,17 +5,19 @@
 // total internal reflection); and the share of pixels whose primary ray meets the same primitive in
 // both (POV-Ray renders an object-id pass). The numbers are printed on every run; docs/povray.md
 // explains each threshold and each residual difference. Also: the exporter's rules and `twinray pov`.
-#include "tests/scene_files.h"
 #include "compare/image_compare.h"
 #include "image/image_file.h"
 #include "pov/exporter.h"
 #include "pov/povray_runner.h"
-#include "tests/run_twinray.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
+#include "tests/run_twinray.h"
+#include "tests/scene_files.h"
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -28,8 +30,6 @@
 #include <optional>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <vector>
 
 namespace {
@@ -65,9 +65,10 @@ const Thresholds& thresholds_for(const std::string& scene) {
         // transmission factor fewer in POV-Ray: one light's diffuse term on the floor scaled by 1/0.8 or
         // 1/0.7, up to 12 levels measured. These pixels lie on secondary and shadow edges, outside the
         // primary object band, hence the bound of 16 there; 0.05% (38 pixels) over 2 levels allowed.
-        {"complete2", {0.9995, 16, 2, 0.9995,
-                       "POV-Ray's 1e-3 shadow and 1e-4 hit tolerances where the floor meets the glass box and water "
-                       "cylinder and where shadow rays clip their corners"}},
+        {"complete2",
+         {0.9995, 16, 2, 0.9995,
+          "POV-Ray's 1e-3 shadow and 1e-4 hit tolerances where the floor meets the glass box and water "
+          "cylinder and where shadow rays clip their corners"}},
     };
     for (const auto& [name, thresholds] : table) {
         if (name == scene) {
@@ -92,9 +93,13 @@ std::optional<Image> render_with_povray(const fs::path& povray, const fs::path& 
     }
 }
 
-int level(float stored) { return static_cast<int>(std::lround(std::clamp(stored, 0.0f, 1.0f) * 255.0f)); }
+int level(float stored) {
+    return static_cast<int>(std::lround(std::clamp(stored, 0.0f, 1.0f) * 255.0f));
+}
 
-std::array<int, 3> levels_of(const twinray::Rgb& p) { return {level(p.r), level(p.g), level(p.b)}; }
+std::array<int, 3> levels_of(const twinray::Rgb& p) {
+    return {level(p.r), level(p.g), level(p.b)};
+}
 
 using RefTracer = twinray::reference::Tracer<double>;
 using RefVec = twinray::reference::Vec3<double>;
@@ -150,7 +155,8 @@ private:
                 add(hash, 3);
                 continue;
             }
-            double shadow = tracer_.shadow_transmittance(RefTracer::spawn_origin(*hit, to_light), RefVec(light.position));
+            double shadow =
+                tracer_.shadow_transmittance(RefTracer::spawn_origin(*hit, to_light), RefVec(light.position));
             std::uint64_t bits = 0;
             std::memcpy(&bits, &shadow, sizeof bits);
             add(hash, bits);
@@ -218,7 +224,7 @@ struct Measurement {
     double share_within_2_levels = 0;
     double share_identical = 0;
     int max_levels = 0;
-    int max_levels_off_object_edges = 0;  // outside the band of primary-ray object changes
+    int max_levels_off_object_edges = 0;    // outside the band of primary-ray object changes
     int max_levels_off_ray_tree_edges = 0;  // outside the band of any change in the ray tree
     std::array<int, 2> worst_off_object_edges{0, 0};
     std::array<int, 2> worst_off_ray_tree_edges{0, 0};
@@ -273,8 +279,9 @@ class PovJudge : public ::testing::TestWithParam<fs::path> {};
 
 TEST_P(PovJudge, PovRayRendersTheExportedSceneAsTheReferenceDoes) {
     std::optional<fs::path> povray = find_povray();
-    ASSERT_TRUE(povray.has_value()) << "povray is not on PATH: install the Debian package `povray` "
-                                       "(apt-get install povray, or run ci/setup). The POV-Ray judge cannot be skipped.";
+    ASSERT_TRUE(povray.has_value())
+        << "povray is not on PATH: install the Debian package `povray` "
+           "(apt-get install povray, or run ci/setup). The POV-Ray judge cannot be skipped.";
     const std::string name = GetParam().stem().string();
     const Thresholds& limits = thresholds_for(name);
     twinray::scene::Scene scene = twinray::scene::load_scene(GetParam());
@@ -304,13 +311,15 @@ TEST_P(PovJudge, PovRayRendersTheExportedSceneAsTheReferenceDoes) {
     Measurement m = measure(*pov, reference, *pov_ids, ids, band_of(ids, width, height),
                             band_of(ray_tree_signatures(scene, tracer, width, height), width, height));
 
-    std::printf("[ measured ] %s %dx%d: %.4f%% of pixels within 2/255 (%.3f%% identical), max error %d/255; off object edges "
-                "(%.2f%% of pixels excluded) max %d/255 at %d,%d; off ray-tree edges (%.2f%% excluded) max %d/255 at "
-                "%d,%d; same primitive %.4f%%, same coverage %.4f%%\n",
-                name.c_str(), width, height, 100.0 * m.share_within_2_levels, 100.0 * m.share_identical, m.max_levels, 100.0 * m.object_band_share,
-                m.max_levels_off_object_edges, m.worst_off_object_edges[0], m.worst_off_object_edges[1],
-                100.0 * m.ray_tree_band_share, m.max_levels_off_ray_tree_edges, m.worst_off_ray_tree_edges[0],
-                m.worst_off_ray_tree_edges[1], 100.0 * m.object_agreement, 100.0 * m.coverage_agreement);
+    std::printf(
+        "[ measured ] %s %dx%d: %.4f%% of pixels within 2/255 (%.3f%% identical), max error %d/255; off object edges "
+        "(%.2f%% of pixels excluded) max %d/255 at %d,%d; off ray-tree edges (%.2f%% excluded) max %d/255 at "
+        "%d,%d; same primitive %.4f%%, same coverage %.4f%%\n",
+        name.c_str(), width, height, 100.0 * m.share_within_2_levels, 100.0 * m.share_identical, m.max_levels,
+        100.0 * m.object_band_share, m.max_levels_off_object_edges, m.worst_off_object_edges[0],
+        m.worst_off_object_edges[1], 100.0 * m.ray_tree_band_share, m.max_levels_off_ray_tree_edges,
+        m.worst_off_ray_tree_edges[0], m.worst_off_ray_tree_edges[1], 100.0 * m.object_agreement,
+        100.0 * m.coverage_agreement);
     RecordProperty("share_within_2_levels", std::to_string(m.share_within_2_levels));
     RecordProperty("max_levels_off_object_edges", std::to_string(m.max_levels_off_object_edges));
     RecordProperty("max_levels_off_ray_tree_edges", std::to_string(m.max_levels_off_ray_tree_edges));
@@ -323,7 +332,8 @@ TEST_P(PovJudge, PovRayRendersTheExportedSceneAsTheReferenceDoes) {
     }
     if (m.max_levels_off_object_edges > limits.max_levels_off_object_edges) {
         failures << "  off object edges: " << m.max_levels_off_object_edges << "/255 at " << m.worst_off_object_edges[0]
-                 << "," << m.worst_off_object_edges[1] << ", at most " << limits.max_levels_off_object_edges << " allowed\n";
+                 << "," << m.worst_off_object_edges[1] << ", at most " << limits.max_levels_off_object_edges
+                 << " allowed\n";
     }
     if (m.max_levels_off_ray_tree_edges > limits.max_levels_off_ray_tree_edges) {
         failures << "  off ray-tree edges: " << m.max_levels_off_ray_tree_edges << "/255 at "
@@ -341,31 +351,34 @@ TEST_P(PovJudge, PovRayRendersTheExportedSceneAsTheReferenceDoes) {
         ADD_FAILURE() << name << ": POV-Ray's image differs from the reference's beyond this scene's thresholds ("
                       << limits.why << "):\n"
                       << failures.str() << "  error map (inferno, brightest at " << scale
-                      << "/255 and above): " << error_map.string() << "\n  POV-Ray's image, the reference's, the scene: "
-                      << (folder / "pov.png").string() << ", " << (folder / "reference.png").string() << ", "
-                      << (folder / "pov.pov").string();
+                      << "/255 and above): " << error_map.string()
+                      << "\n  POV-Ray's image, the reference's, the scene: " << (folder / "pov.png").string() << ", "
+                      << (folder / "reference.png").string() << ", " << (folder / "pov.pov").string();
     }
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, PovJudge, ::testing::ValuesIn(scene_files()),
-                         [](const ::testing::TestParamInfo<fs::path>& param_info) { return param_info.param.stem().string(); });
+                         [](const ::testing::TestParamInfo<fs::path>& param_info) {
+                             return param_info.param.stem().string();
+                         });
 
 // The exporter's rules, one at a time, on scenes written here.
 
 twinray::scene::Scene scene_from(const std::string& objects, const std::string& materials = "{}") {
-    return twinray::scene::parse_scene(R"({"camera": {"eye": [0, 1, 5], "look_at": [0, 1, 0]}, "materials": )" + materials +
-                                           R"(, "objects": )" + objects + "}",
+    return twinray::scene::parse_scene(R"({"camera": {"eye": [0, 1, 5], "look_at": [0, 1, 0]}, "materials": )" +
+                                           materials + R"(, "objects": )" + objects + "}",
                                        "<test>");
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
 
 TEST(PovExporter, NegatesZAndSwapsTheBoxCornersItsOrderChanges) {
-    std::string pov = twinray::pov::export_pov(
-        scene_from(R"([{"type": "box", "min": [-1, 0, -3], "max": [1, 2, -2]},
+    std::string pov = twinray::pov::export_pov(scene_from(R"([{"type": "box", "min": [-1, 0, -3], "max": [1, 2, -2]},
                        {"type": "sphere", "center": [1, 2, 3], "radius": 0.5},
                        {"type": "plane", "normal": [0, 0, 1], "offset": 2}])"),
-        32, 24);
+                                               32, 24);
     EXPECT_TRUE(contains(pov, "box {\n  <-1, 0, 2>, <1, 2, 3>")) << pov;
     EXPECT_TRUE(contains(pov, "sphere {\n  <1, 2, -3>, 0.5")) << pov;
     EXPECT_TRUE(contains(pov, "plane {\n  <0, 0, -1>, 2")) << pov;
@@ -384,7 +397,8 @@ TEST(PovExporter, CameraHasExplicitRightUpSkyAndHorizontalAngle) {
 }
 
 TEST(PovExporter, NumbersReadBackAsTheSameDouble) {
-    std::string pov = twinray::pov::export_pov(scene_from(R"([{"type": "sphere", "center": [0, 0, 0], "radius": 0.1}])"), 8, 8);
+    std::string pov =
+        twinray::pov::export_pov(scene_from(R"([{"type": "sphere", "center": [0, 0, 0], "radius": 0.1}])"), 8, 8);
     std::size_t at = pov.find("sphere {\n  <0, 0, 0>, ");
     ASSERT_NE(at, std::string::npos) << pov;
     EXPECT_EQ(std::strtod(pov.c_str() + at + std::string("sphere {\n  <0, 0, 0>, ").size(), nullptr), 0.1);
@@ -402,8 +416,9 @@ TEST(PovExporter, UnionIsWrittenAsMergeSoATransparentUnionHasNoInnerSurfaces) {
 TEST(PovExporter, GlassGetsTransmitAndRefractionThatGiveOurTotalInternalReflectionAndACopyForShadows) {
     // t = 0.8, r = 0.1: POV-Ray's transmit f = t/(r + t), refraction k = r + t, ambient and diffuse over (1 − f).
     std::string pov = twinray::pov::export_pov(
-        scene_from(R"([{"type": "box", "min": [-1, 0, -1], "max": [1, 1, 1], "material": "glass"}])",
-                   R"({"glass": {"ambient": 0.1, "diffuse": 0.05, "reflection": 0.1, "transmission": 0.8, "ior": 1.5}})"),
+        scene_from(
+            R"([{"type": "box", "min": [-1, 0, -1], "max": [1, 1, 1], "material": "glass"}])",
+            R"({"glass": {"ambient": 0.1, "diffuse": 0.05, "reflection": 0.1, "transmission": 0.8, "ior": 1.5}})"),
         8, 8);
     const double f = 0.8 / (0.1 + 0.8);
     char expected[160];
@@ -454,7 +469,8 @@ TEST(PovExporter, ACsgObjectWhosePrimitivesShareAnIorSharesOneInteriorAndEveryPr
     ASSERT_NE(visible_end, std::string::npos) << pov;
     std::string visible = pov.substr(0, visible_end);
     std::size_t interiors = 0;
-    for (std::size_t at = visible.find("interior {"); at != std::string::npos; at = visible.find("interior {", at + 1)) {
+    for (std::size_t at = visible.find("interior {"); at != std::string::npos;
+         at = visible.find("interior {", at + 1)) {
         ++interiors;
     }
     EXPECT_EQ(interiors, 1u) << pov;
@@ -467,10 +483,10 @@ TEST(PovExporter, ACsgObjectWhosePrimitivesShareAnIorSharesOneInteriorAndEveryPr
 }
 
 TEST(PovExporter, ObjectIdPassColoursEachPrimitiveByItsIdWithoutLights) {
-    std::string pov = twinray::pov::export_pov_object_ids(
-        scene_from(R"([{"type": "sphere", "center": [0, 0, 0], "radius": 1},
+    std::string pov =
+        twinray::pov::export_pov_object_ids(scene_from(R"([{"type": "sphere", "center": [0, 0, 0], "radius": 1},
                        {"type": "sphere", "center": [2, 0, 0], "radius": 1}])"),
-        8, 8);
+                                            8, 8);
     EXPECT_TRUE(contains(pov, "pigment { color rgb <0.0039215686274509803, 0, 0> }")) << pov;
     EXPECT_TRUE(contains(pov, "pigment { color rgb <0.0078431372549019607, 0, 0> }")) << pov;
     EXPECT_TRUE(contains(pov, "max_trace_level 1")) << pov;
@@ -486,7 +502,8 @@ using twinray::test::run_twinray;
 class PovCommand : public ::testing::Test {
 protected:
     void SetUp() override {
-        folder_ = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "pov_command" / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+        folder_ = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "pov_command" /
+                  ::testing::UnitTest::GetInstance()->current_test_info()->name();
         fs::remove_all(folder_);
         fs::create_directories(folder_);
     }
@@ -495,8 +512,8 @@ protected:
 
 TEST_F(PovCommand, WritesTheSceneAtTheRequestedSize) {
     fs::path output = folder_ / "csg.pov";
-    CommandResult result =
-        run_twinray("pov " + std::string(TWINRAY_SOURCE_DIR) + "/scenes/csg.json -o " + output.string() + " --width 200");
+    CommandResult result = run_twinray("pov " + std::string(TWINRAY_SOURCE_DIR) + "/scenes/csg.json -o " +
+                                       output.string() + " --width 200");
     ASSERT_EQ(result.exit_status, 0) << result.output;
     EXPECT_TRUE(contains(result.output, "resolution:  200 x 120")) << result.output;
     std::ifstream stream(output);
@@ -522,8 +539,8 @@ TEST_F(PovCommand, MissingOutputFolderExitsThree) {
 }
 
 TEST_F(PovCommand, DiffWithPovAddsPovRaysImageAndErrorMapAsAThirdColumn) {
-    CommandResult result = run_twinray("diff " + std::string(TWINRAY_SOURCE_DIR) + "/scenes/csg.json --pov --width 80 -o " +
-                                       (folder_ / "report").string());
+    CommandResult result = run_twinray("diff " + std::string(TWINRAY_SOURCE_DIR) +
+                                       "/scenes/csg.json --pov --width 80 -o " + (folder_ / "report").string());
     ASSERT_EQ(result.exit_status, 0) << result.output;
     EXPECT_TRUE(fs::exists(folder_ / "report" / "csg" / "povray.png"));
     EXPECT_TRUE(fs::exists(folder_ / "report" / "csg" / "povray_error.png"));

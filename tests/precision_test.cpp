@@ -1,6 +1,7 @@
 // The SSE tracer's speed/accuracy knobs (src/sse/precision.h): each one really changes the
 // instructions' results, stays within a stated bound, and the default stays exact. Built with
 // -msse4.1 (it calls the kernels' helpers directly). No test here measures speed.
+#include "sse/precision.h"
 #include "accuracy/ray_accuracy.h"
 #include "compare/image_compare.h"
 #include "reference/tracer.h"
@@ -8,7 +9,6 @@
 #include "scene/portable_random.h"
 #include "scene/sphere_field.h"
 #include "sse/cpu.h"
-#include "sse/precision.h"
 #include "sse/tracer.h"
 #include "tests/scene_builder.h"
 
@@ -42,12 +42,15 @@ private:
 };
 
 vfloat4 four(Floats& random, float low, float high) {
-    return vfloat4(_mm_setr_ps(random.next(low, high), random.next(low, high), random.next(low, high), random.next(low, high)));
+    return vfloat4(
+        _mm_setr_ps(random.next(low, high), random.next(low, high), random.next(low, high), random.next(low, high)));
 }
 
 // MXCSR's control bits (rounding, masks, FTZ, DAZ), without the six sticky exception flags that any
 // arithmetic may raise.
-unsigned mxcsr_controls() { return _mm_getcsr() & ~0x3Fu; }
+unsigned mxcsr_controls() {
+    return _mm_getcsr() & ~0x3Fu;
+}
 
 class PrecisionTest : public ::testing::Test {
 protected:
@@ -73,13 +76,15 @@ TEST_F(PrecisionTest, ReciprocalAndInverseSquareRootWithANewtonStepAreWithinTwoT
             double exact = 1.0 / static_cast<double>(x.lane(lane));
             double exact_rsqrt = 1.0 / std::sqrt(static_cast<double>(x.lane(lane)));
             worst_reciprocal = std::max(worst_reciprocal, std::fabs(fast.lane(lane) - exact) / exact);
-            worst_inverse_sqrt = std::max(worst_inverse_sqrt, std::fabs(fast_rsqrt.lane(lane) - exact_rsqrt) / exact_rsqrt);
+            worst_inverse_sqrt =
+                std::max(worst_inverse_sqrt, std::fabs(fast_rsqrt.lane(lane) - exact_rsqrt) / exact_rsqrt);
             inexact += fast.lane(lane) != 1.0f / x.lane(lane) ? 1 : 0;
         }
     }
-    std::printf("[ measured ] rcp+Newton worst relative error %.3g (%ld of 400000 differ from IEEE 1/x), "
-                "rsqrt+Newton %.3g; bound %.3g\n",
-                worst_reciprocal, inexact, worst_inverse_sqrt, std::ldexp(1.0, -20));
+    std::printf(
+        "[ measured ] rcp+Newton worst relative error %.3g (%ld of 400000 differ from IEEE 1/x), "
+        "rsqrt+Newton %.3g; bound %.3g\n",
+        worst_reciprocal, inexact, worst_inverse_sqrt, std::ldexp(1.0, -20));
     EXPECT_GT(inexact, 0) << "rcp + Newton gave the IEEE quotient everywhere: the knob changes nothing";
     EXPECT_LE(worst_reciprocal, std::ldexp(1.0, -20));
     EXPECT_LE(worst_inverse_sqrt, std::ldexp(1.0, -20));
@@ -155,10 +160,12 @@ class KnobAgainstExact : public PrecisionTest, public ::testing::WithParamInterf
 
 TEST_P(KnobAgainstExact, ChangesSomeResultsYetStaysWithinItsBound) {
     const KnobCase& knob = GetParam();
-    twinray::scene::Scene scene = twinray::scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "scenes" / "complete2.json");
+    twinray::scene::Scene scene =
+        twinray::scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "scenes" / "complete2.json");
     const int width = 200, height = scene.height * width / scene.width;
     twinray::sse::Tracer exact(scene), fast(scene, knob.precision);
-    auto expected = twinray::accuracy::all_first_hits(twinray::accuracy::first_hits_of(exact, width, height), width, height);
+    auto expected =
+        twinray::accuracy::all_first_hits(twinray::accuracy::first_hits_of(exact, width, height), width, height);
     twinray::accuracy::RayAccuracy rays =
         twinray::accuracy::measure_rays(expected, twinray::accuracy::first_hits_of(fast, width, height), width, height);
 
@@ -171,16 +178,18 @@ TEST_P(KnobAgainstExact, ChangesSomeResultsYetStaysWithinItsBound) {
     one_level.fail = one_level.warn = 1.0 / 255.0;
     twinray::compare::Metrics image = twinray::compare::measure(exact_image, fast_image, one_level);
     double over_share = static_cast<double>(image.fail_pixels) / static_cast<double>(image.pixel_count);
-    std::printf("[ measured ] %s vs exact: t rel max %.3g (p50 %.3g), normal max %.3g deg, hit/miss %ld, other object "
-                "%ld of %ld rays; image max %.4g, RMS %.3g, %.4f%% over 1/255\n",
-                knob.name, rays.t_relative_max, rays.t_relative_p50, rays.normal_angle_max_degrees,
-                rays.hit_miss_disagreements, rays.other_object, rays.rays, image.max_error, image.rms_error, 100 * over_share);
+    std::printf(
+        "[ measured ] %s vs exact: t rel max %.3g (p50 %.3g), normal max %.3g deg, hit/miss %ld, other object "
+        "%ld of %ld rays; image max %.4g, RMS %.3g, %.4f%% over 1/255\n",
+        knob.name, rays.t_relative_max, rays.t_relative_p50, rays.normal_angle_max_degrees, rays.hit_miss_disagreements,
+        rays.other_object, rays.rays, image.max_error, image.rms_error, 100 * over_share);
     if (knob.must_change_t) {
         EXPECT_GT(rays.t_relative_max, 0.0) << "no ray's t changed: the knob is not live";
         EXPECT_GT(image.rms_error, 0.0) << "the image did not change: the knob is not live";
     }
     EXPECT_LE(rays.t_relative_max, knob.t_relative_bound);
-    EXPECT_LE(static_cast<double>(rays.hit_miss_disagreements + rays.other_object), 1e-3 * static_cast<double>(rays.rays));
+    EXPECT_LE(static_cast<double>(rays.hit_miss_disagreements + rays.other_object),
+              1e-3 * static_cast<double>(rays.rays));
     EXPECT_LE(image.max_error, 0.1);
     EXPECT_LE(over_share, 0.01);
 }
@@ -226,10 +235,12 @@ TEST_F(PrecisionTest, TextbookQuadraticMisjudgesAUnitSphereFiveThousandRadiiAway
         if (std::fabs(offset - 1.0) < 0.01) {
             continue;
         }
-        twinray::reference::Vec3<double> direction = twinray::reference::normalize(twinray::reference::Vec3<double>{offset, 0, -5000});
+        twinray::reference::Vec3<double> direction =
+            twinray::reference::normalize(twinray::reference::Vec3<double>{offset, 0, -5000});
         bool truth = oracle.intersect({{0, 0, 0}, direction}).has_value();
-        twinray::sse::Ray ray{{0, 0, 0},
-                              {static_cast<float>(direction[0]), static_cast<float>(direction[1]), static_cast<float>(direction[2])}};
+        twinray::sse::Ray ray{
+            {0, 0, 0},
+            {static_cast<float>(direction[0]), static_cast<float>(direction[1]), static_cast<float>(direction[2])}};
         stable_wrong += stable.intersect(ray).has_value() != truth ? 1 : 0;
         textbook_wrong += textbook.intersect(ray).has_value() != truth ? 1 : 0;
         ++rays;

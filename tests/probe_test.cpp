@@ -8,14 +8,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <utility>
 #include <vector>
 
@@ -110,8 +110,8 @@ TEST(ProbeTest, FirstHitInTheJsonIsEachTracersIntersectOfThePixelsPrimaryRay) {
                         reference.intersect(reference.primary_ray(c.x, c.y, scene.width, scene.height)), scene);
         if (sse::cpu_supports_sse41()) {
             sse::Tracer fast(scene);
-            expect_same_hit(json.at("sse").at("hit"), fast.intersect(fast.primary_ray(c.x, c.y, scene.width, scene.height)),
-                            scene);
+            expect_same_hit(json.at("sse").at("hit"),
+                            fast.intersect(fast.primary_ray(c.x, c.y, scene.width, scene.height)), scene);
         }
     }
 }
@@ -197,13 +197,13 @@ TEST(ProbeTest, BadInputIsAUsageErrorAndABadSceneAnInvalidScene) {
 }
 
 TEST(ProbeTest, WithoutSse41TheReferenceTreeIsShownWithANote) {
-    CommandResult text = run_twinray("probe " + scene_path("showcase.json") + " --pixel 240,140",
-                                     "TWINRAY_SIMULATE_NO_SSE41=1");
+    CommandResult text =
+        run_twinray("probe " + scene_path("showcase.json") + " --pixel 240,140", "TWINRAY_SIMULATE_NO_SSE41=1");
     EXPECT_EQ(text.exit_status, 0) << text.everything;
     EXPECT_NE(text.output.find("SSE4.1"), std::string::npos) << text.output;
     EXPECT_NE(text.output.find("reference<double>"), std::string::npos) << text.output;
-    CommandResult json = run_twinray("probe " + scene_path("showcase.json") + " --pixel 240,140 --json",
-                                     "TWINRAY_SIMULATE_NO_SSE41=1");
+    CommandResult json =
+        run_twinray("probe " + scene_path("showcase.json") + " --pixel 240,140 --json", "TWINRAY_SIMULATE_NO_SSE41=1");
     ASSERT_EQ(json.exit_status, 0) << json.everything;
     Json parsed = Json::parse(json.output);
     EXPECT_TRUE(parsed.at("sse").is_null());

@@ -83,8 +83,8 @@ TEST(ReferenceCsgDifference, RayLeavingTheCavityThroughItsMouthMisses) {
 // The cube minus two spheres, one denting the top, one the bottom: difference is the first child
 // minus all the others.
 TEST(ReferenceCsgDifference, DifferenceOfThreeChildrenRemovesEverySubtrahend) {
-    auto scene = scene_of(test::csg(CsgOp::difference, {test::box({-2, -2, -2}, {2, 2, 2}),
-                                                        test::sphere({0, 0, 2}, 1), test::sphere({0, 0, -2}, 1)}));
+    auto scene = scene_of(test::csg(CsgOp::difference, {test::box({-2, -2, -2}, {2, 2, 2}), test::sphere({0, 0, 2}, 1),
+                                                        test::sphere({0, 0, -2}, 1)}));
     EXPECT_HIT(scene, V(0, 0, 10), V(0, 0, -1), {9, {0, 0, 1}, {0, 0, 1}, 1, true});
     EXPECT_HIT(scene, V(0, 0, -10), V(0, 0, 1), {9, {0, 0, -1}, {0, 0, -1}, 2, true});
     EXPECT_HIT(scene, V(0, 0, 0), V(0, 0, 1), {1, {0, 0, 1}, {0, 0, -1}, 1, false});
@@ -128,8 +128,8 @@ TEST(ReferenceCsgDifference, RayStartingInTheRemovedHalfSeesOnlyTheCutFace) {
 // The cube [−1,1]³ minus the box [0,1]×[−2,2]² shares the face x = 1 with it: the two faces cancel
 // (no zero-thickness skin is left), and the first surface is the subtrahend's face x = 0.
 TEST(ReferenceCsgDifference, SubtrahendSharingAFaceLeavesNoSkinOnThatFace) {
-    auto scene = scene_of(
-        test::csg(CsgOp::difference, {test::box({-1, -1, -1}, {1, 1, 1}), test::box({0, -2, -2}, {1, 2, 2})}));
+    auto scene =
+        scene_of(test::csg(CsgOp::difference, {test::box({-1, -1, -1}, {1, 1, 1}), test::box({0, -2, -2}, {1, 2, 2})}));
     EXPECT_HIT(scene, V(5, 0.2, 0.3), V(-1, 0, 0), {5, {0, 0.2, 0.3}, {1, 0, 0}, 1, true});
 }
 
@@ -181,8 +181,7 @@ TEST(ReferenceCsgIntersection, CoincidentEntryFacesReportTheEarlierChildWhicheve
 
 // The unit ball (leaf 0) cut to its lower half by the half-space y < 0 (leaf 1).
 TEST(ReferenceCsgIntersection, BallIntersectedWithAHalfSpaceShowsTheFlatCutFromAbove) {
-    auto scene =
-        scene_of(test::csg(CsgOp::intersection, {test::sphere({0, 0, 0}, 1), test::plane({0, 1, 0}, 0)}));
+    auto scene = scene_of(test::csg(CsgOp::intersection, {test::sphere({0, 0, 0}, 1), test::plane({0, 1, 0}, 0)}));
     EXPECT_HIT(scene, V(0.2, 5, 0.1), V(0, -1, 0), {5, {0.2, 0, 0.1}, {0, 1, 0}, 1, true});
     EXPECT_HIT(scene, V(0, -5, 0), V(0, 1, 0), {4, {0, -1, 0}, {0, -1, 0}, 0, true});
     EXPECT_MISS(scene, V(0, 0.5, 5), V(0, 0, -1));
@@ -237,10 +236,9 @@ TEST(ReferenceCsgUnion, RayFromInsideAHalfSpaceUnionLeavesWhereItIsInNeitherOper
 // The cube [−2,2]³ (leaf 0) minus the lens of spheres 1 and 2: a lens-shaped cavity, x in [−0.5,0.5]
 // on the axis; its −x wall is sphere 2's surface, its +x wall sphere 1's.
 twinray::scene::Scene cube_with_lens_cavity() {
-    return scene_of(test::csg(
-        CsgOp::difference,
-        {test::box({-2, -2, -2}, {2, 2, 2}),
-         test::csg(CsgOp::intersection, {test::sphere({-0.5, 0, 0}, 1), test::sphere({0.5, 0, 0}, 1)})}));
+    return scene_of(test::csg(CsgOp::difference, {test::box({-2, -2, -2}, {2, 2, 2}),
+                                                  test::csg(CsgOp::intersection, {test::sphere({-0.5, 0, 0}, 1),
+                                                                                  test::sphere({0.5, 0, 0}, 1)})}));
 }
 
 TEST(ReferenceCsgNesting, CubeMinusLensIsLeftIntoTheCavityThroughTheLensFace) {
@@ -258,9 +256,8 @@ TEST(ReferenceCsgNesting, RayInsideALensCavityEntersTheSolidThroughTheFarLensFac
 // The two overlapping balls (leaves 0, 1) cut to the slab |y| ≤ 0.25 (leaf 2).
 TEST(ReferenceCsgNesting, UnionCutBySlabShowsTheSlabFacesAndTheBallsSides) {
     auto scene = scene_of(test::csg(
-        CsgOp::intersection,
-        {test::csg(CsgOp::union_, {test::sphere({-0.5, 0, 0}, 1), test::sphere({0.5, 0, 0}, 1)}),
-         test::box({-3, -0.25, -3}, {3, 0.25, 3})}));
+        CsgOp::intersection, {test::csg(CsgOp::union_, {test::sphere({-0.5, 0, 0}, 1), test::sphere({0.5, 0, 0}, 1)}),
+                              test::box({-3, -0.25, -3}, {3, 0.25, 3})}));
     EXPECT_HIT(scene, V(0, 5, 0), V(0, -1, 0), {4.75, {0, 0.25, 0}, {0, 1, 0}, 2, true});
     EXPECT_HIT(scene, V(-5, 0, 0), V(1, 0, 0), {3.5, {-1.5, 0, 0}, {-1, 0, 0}, 0, true});
     EXPECT_HIT(scene, V(0, 0, 0), V(1, 0, 0), {1.5, {1.5, 0, 0}, {-1, 0, 0}, 1, false});

@@ -135,8 +135,7 @@ twinray::scene::Scene upright_cylinder_scene() {
 // At height 0 the ray along +x, 0.6 off the axis in z, meets x² + 0.36 = 1 at x = −0.8.
 TEST(ReferenceIntersectionCylinder, SideHitPerpendicularToTheAxisHasTheRadialNormal) {
     auto scene = upright_cylinder_scene();
-    EXPECT_HIT(scene, cyl_base + V(-6, 1, 0.6), V(1, 0, 0),
-               {5.2, cyl_base + V(-0.8, 1, 0.6), {-0.8, 0, 0.6}, 1, true});
+    EXPECT_HIT(scene, cyl_base + V(-6, 1, 0.6), V(1, 0, 0), {5.2, cyl_base + V(-0.8, 1, 0.6), {-0.8, 0, 0.6}, 1, true});
 }
 
 // Along (1,−1,0)/√2 from (−3,3,0): the side x = −1 at t = 2√2, at height 1 — below the cap (height 2),
@@ -301,10 +300,11 @@ TEST(ReferenceIntersectionBox, BoxBehindTheRayOriginIsMissed) {
 
 TEST(ReferenceIntersectionScene, NearestOfSeveralPrimitivesIsReportedWithItsDocumentOrderLeaf) {
     test::SceneBuilder builder;
-    builder.object(test::plane({0, 1, 0}, -10))                  // leaf 0, y = −10
-        .object(test::sphere({0, 0, -20}, 1))                    // leaf 1
-        .object(test::cylinder({5, -1, 0}, {5, 1, 0}, 1))        // leaf 2
-        .object(test::box({-6, -1, -1}, {-4, 1, 1}));            // leaf 3
+    builder
+        .object(test::plane({0, 1, 0}, -10))               // leaf 0, y = −10
+        .object(test::sphere({0, 0, -20}, 1))              // leaf 1
+        .object(test::cylinder({5, -1, 0}, {5, 1, 0}, 1))  // leaf 2
+        .object(test::box({-6, -1, -1}, {-4, 1, 1}));      // leaf 3
     auto scene = builder.build();
     EXPECT_HIT(scene, V(0, 0, 0), V(0, 0, -1), {19, {0, 0, -19}, {0, 0, 1}, 1, true});
     EXPECT_HIT(scene, V(0, 0, 0), V(1, 0, 0), {4, {4, 0, 0}, {-1, 0, 0}, 2, true});

@@ -121,8 +121,8 @@ TEST(ReferenceRender, EveryPixelIsTheTracedPrimaryRayOfThatPixel) {
             twinray::Rgb expected{static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
             if (!(result.image.at(x, y) == expected) && ++mismatches <= 5) {
                 ADD_FAILURE() << "pixel (" << x << ", " << y << ") is " << result.image.at(x, y).r << ", "
-                              << result.image.at(x, y).g << ", " << result.image.at(x, y).b << "; traced "
-                              << expected.r << ", " << expected.g << ", " << expected.b;
+                              << result.image.at(x, y).g << ", " << result.image.at(x, y).b << "; traced " << expected.r
+                              << ", " << expected.g << ", " << expected.b;
             }
         }
     }
@@ -171,8 +171,8 @@ TEST(ReferenceRender, FloatRenderIsCloseToTheDoubleRender) {
     double mean = sum / static_cast<double>(pixels);
     double share_1e4 = static_cast<double>(above_1e4) / static_cast<double>(pixels);
     double share_1e3 = static_cast<double>(above_1e3) / static_cast<double>(pixels);
-    std::printf("float vs double: max error %.3g, mean error %.3g, pixels > 1e-4: %.3f%%, > 1e-3: %.3f%%\n",
-                max_error, mean, 100 * share_1e4, 100 * share_1e3);
+    std::printf("float vs double: max error %.3g, mean error %.3g, pixels > 1e-4: %.3f%%, > 1e-3: %.3f%%\n", max_error,
+                mean, 100 * share_1e4, 100 * share_1e3);
     RecordProperty("max_error", std::to_string(max_error));
     RecordProperty("mean_error", std::to_string(mean));
     EXPECT_LT(mean, 1e-5);

@@ -2,22 +2,22 @@
 // (run_twinray), or as a child process the test can watch, signal and reap (RunningTwinray).
 #pragma once
 
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <array>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <optional>
 #include <string>
-#include <sys/resource.h>
-#include <sys/types.h>
-#include <sys/wait.h>
 #include <thread>
-#include <unistd.h>
 #include <vector>
 
 namespace twinray::test {
@@ -79,7 +79,9 @@ public:
             ::signal(SIGINT, SIG_DFL);
             if (limits.file_size_bytes) {
                 ::signal(SIGXFSZ, SIG_IGN);
-                struct rlimit limit {*limits.file_size_bytes, *limits.file_size_bytes};
+                struct rlimit limit {
+                    *limits.file_size_bytes, *limits.file_size_bytes
+                };
                 ::setrlimit(RLIMIT_FSIZE, &limit);
             }
             ::execv(argv[0], argv.data());

@@ -99,10 +99,10 @@ private:
 
 // Component-wise EXPECT_NEAR on anything with x, y, z (reference::Vec3): each failure prints the
 // measured and the expected component.
-#define TWINRAY_EXPECT_VEC_NEAR(actual, expected, tolerance) \
-    do {                                                     \
-        const auto twinray_a_ = (actual);                    \
-        const auto twinray_e_ = (expected);                  \
+#define TWINRAY_EXPECT_VEC_NEAR(actual, expected, tolerance)                   \
+    do {                                                                       \
+        const auto twinray_a_ = (actual);                                      \
+        const auto twinray_e_ = (expected);                                    \
         EXPECT_NEAR(twinray_a_.x, twinray_e_.x, tolerance) << "x of " #actual; \
         EXPECT_NEAR(twinray_a_.y, twinray_e_.y, tolerance) << "y of " #actual; \
         EXPECT_NEAR(twinray_a_.z, twinray_e_.z, tolerance) << "z of " #actual; \

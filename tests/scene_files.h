@@ -9,7 +9,8 @@ namespace twinray::test {
 
 inline std::vector<std::filesystem::path> scene_files() {
     std::vector<std::filesystem::path> files;
-    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(TWINRAY_SOURCE_DIR) / "scenes")) {
+    for (const auto& entry :
+         std::filesystem::directory_iterator(std::filesystem::path(TWINRAY_SOURCE_DIR) / "scenes")) {
         if (entry.path().extension() == ".json") {
             files.push_back(entry.path());
         }

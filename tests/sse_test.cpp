@@ -34,15 +34,24 @@ void* operator new(std::size_t size) {
 void* operator new(std::size_t size, std::align_val_t alignment) {
     ++heap_allocations;
     std::size_t rounded = (size + static_cast<std::size_t>(alignment) - 1) & ~(static_cast<std::size_t>(alignment) - 1);
-    if (void* memory = std::aligned_alloc(static_cast<std::size_t>(alignment), rounded == 0 ? static_cast<std::size_t>(alignment) : rounded)) {
+    if (void* memory = std::aligned_alloc(static_cast<std::size_t>(alignment),
+                                          rounded == 0 ? static_cast<std::size_t>(alignment) : rounded)) {
         return memory;
     }
     throw std::bad_alloc();
 }
-void operator delete(void* memory) noexcept { std::free(memory); }
-void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
-void operator delete(void* memory, std::align_val_t) noexcept { std::free(memory); }
-void operator delete(void* memory, std::size_t, std::align_val_t) noexcept { std::free(memory); }
+void operator delete(void* memory) noexcept {
+    std::free(memory);
+}
+void operator delete(void* memory, std::size_t) noexcept {
+    std::free(memory);
+}
+void operator delete(void* memory, std::align_val_t) noexcept {
+    std::free(memory);
+}
+void operator delete(void* memory, std::size_t, std::align_val_t) noexcept {
+    std::free(memory);
+}
 
 namespace {
 
@@ -139,7 +148,8 @@ TEST_F(SseTracerTest, RenderedPixelsEqualTheSingleRayTraceOfEachPixel) {
                 const twinray::Rgb& pixel = result.image.at(x, y);
                 if (!(pixel.r == c.x && pixel.g == c.y && pixel.b == c.z) && ++mismatches <= 3) {
                     ADD_FAILURE() << entry.path().filename() << " pixel " << x << "," << y << ": rendered " << pixel.r
-                                  << "," << pixel.g << "," << pixel.b << ", traced alone " << c.x << "," << c.y << "," << c.z;
+                                  << "," << pixel.g << "," << pixel.b << ", traced alone " << c.x << "," << c.y << ","
+                                  << c.z;
                 }
             }
         }

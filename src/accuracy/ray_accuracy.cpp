@@ -37,8 +37,10 @@ double quantile(const std::vector<double>& sorted, double q) {
 }
 
 bool same_answer(const std::optional<RefHit>& a, const std::optional<RefHit>& b) {
-    if (a.has_value() != b.has_value()) return false;
-    if (!a) return true;
+    if (a.has_value() != b.has_value())
+        return false;
+    if (!a)
+        return true;
     return a->leaf == b->leaf && angle_between(a->normal, b->normal) <= normal_bound_radians;
 }
 
@@ -77,7 +79,8 @@ double angle_between(RefVec a, RefVec b) {
 double largest_coordinate(const scene::Scene& scene) {
     double largest = 0;
     auto take = [&](const scene::Vec3& v) {
-        for (double c : v) largest = std::max(largest, std::fabs(c));
+        for (double c : v)
+            largest = std::max(largest, std::fabs(c));
     };
     take(scene.camera.eye);
     take(scene.camera.look_at);
@@ -97,12 +100,14 @@ double largest_coordinate(const scene::Scene& scene) {
                     take(shape.min);
                     take(shape.max);
                 } else {
-                    for (const auto& child : shape.children) visit(child);
+                    for (const auto& child : shape.children)
+                        visit(child);
                 }
             },
             object.shape);
     };
-    for (const auto& object : scene.objects) visit(object);
+    for (const auto& object : scene.objects)
+        visit(object);
     return largest;
 }
 
@@ -124,7 +129,8 @@ bool in_silhouette_band(const reference::Tracer<double>& reference, const scene:
     const double shifts[4][2] = {{band_pixels, 0}, {-band_pixels, 0}, {0, band_pixels}, {0, -band_pixels}};
     for (const auto& shift : shifts) {
         RefRay ray = reference_ray_at(scene, x + 0.5 + shift[0], y + 0.5 + shift[1], width, height);
-        if (!same_answer(centre, reference.intersect(ray))) return true;
+        if (!same_answer(centre, reference.intersect(ray)))
+            return true;
     }
     return false;
 }
@@ -136,8 +142,8 @@ RayAccuracy measure_rays(const std::vector<std::optional<FirstHit>>& expected, c
     double max_angle = 0;
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
-            const std::optional<FirstHit>& want = expected[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
-                                                           static_cast<std::size_t>(x)];
+            const std::optional<FirstHit>& want =
+                expected[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)];
             std::optional<FirstHit> got = actual(x, y);
             ++accuracy.rays;
             if (want.has_value() != got.has_value()) {

@@ -61,7 +61,9 @@ struct RayAccuracy {
     double t_relative_p50 = 0, t_relative_p999 = 0, t_relative_max = 0;
     double normal_angle_max_degrees = 0;
 
-    double per_million(long count) const { return rays == 0 ? 0 : 1e6 * static_cast<double>(count) / static_cast<double>(rays); }
+    double per_million(long count) const {
+        return rays == 0 ? 0 : 1e6 * static_cast<double>(count) / static_cast<double>(rays);
+    }
 };
 
 RayAccuracy measure_rays(const std::vector<std::optional<FirstHit>>& expected, const FirstHitOf& actual, int width,

@@ -16,6 +16,7 @@
 #include "peers/embree_peer.h"
 #endif
 
+#include <unistd.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -26,7 +27,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace twinray::cli {
@@ -53,7 +53,9 @@ struct Configuration {
 };
 
 // Every knob that can buy speed (--precision fast); dpps is the thesis's choice, timed on its own.
-sse::Precision all_fast_knobs() { return {.fast_rcp = true, .fast_rsqrt = true, .textbook_quadratic = true, .flush_denormals = true}; }
+sse::Precision all_fast_knobs() {
+    return {.fast_rcp = true, .fast_rsqrt = true, .textbook_quadratic = true, .flush_denormals = true};
+}
 
 // reference<double> first: every ratio and every error is against it.
 std::vector<Configuration> trade_configurations(int all_threads) {
@@ -92,8 +94,8 @@ struct Timings {
 
 // Every configuration renders once per run, in turn, so a slow spell of the shared machine weighs on
 // both sides of a ratio instead of on one column; each ratio is the median of per-run ratios.
-std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene, int width,
-                                  int runs, std::vector<Image>* last_images) {
+std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene,
+                                  int width, int runs, std::vector<Image>* last_images) {
     std::vector<Timings> timings(configurations.size());
     if (last_images != nullptr) {
         last_images->assign(configurations.size(), Image(1, 1));
@@ -121,7 +123,8 @@ std::vector<Timings> time_renders(const std::vector<Configuration>& configuratio
 }
 
 accuracy::RayAccuracy ray_accuracy(const Configuration& configuration, const scene::Scene& scene,
-                                   const std::vector<std::optional<accuracy::FirstHit>>& expected, int width, int height) {
+                                   const std::vector<std::optional<accuracy::FirstHit>>& expected, int width,
+                                   int height) {
     if (configuration.tracer == "reference") {
         reference::Tracer<double> tracer(scene);
         return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);
@@ -162,16 +165,15 @@ void bench_scene(const std::string& name, const scene::Scene& scene, const Bench
         accuracy::RayAccuracy rays = ray_accuracy(configurations[i], scene, expected, width, height);
         double over_share = static_cast<double>(image.fail_pixels) / static_cast<double>(image.pixel_count);
         const Timings& t = timings[i];
-        report.trade.add_row({name, configurations[i].label, cell("%.2f", median(t.mrays)),
-                              cell("%.2f", *std::min_element(t.mrays.begin(), t.mrays.end())),
-                              cell("%.2f", *std::max_element(t.mrays.begin(), t.mrays.end())),
-                              cell("%.2f", median(t.speedups)), cell("%.3g", image.max_error),
-                              cell("%.3g", image.rms_error), cell("%.1f", image.rms_error == 0 ? INFINITY : image.psnr),
-                              cell("%.3f", 100 * over_share), cell("%.3g", rays.t_relative_p50),
-                              cell("%.3g", rays.t_relative_p999), cell("%.3g", rays.t_relative_max),
-                              cell("%.3g", rays.normal_angle_max_degrees),
-                              cell("%.0f", rays.per_million(rays.hit_miss_disagreements)),
-                              cell("%.0f", rays.per_million(rays.other_object))});
+        report.trade.add_row(
+            {name, configurations[i].label, cell("%.2f", median(t.mrays)),
+             cell("%.2f", *std::min_element(t.mrays.begin(), t.mrays.end())),
+             cell("%.2f", *std::max_element(t.mrays.begin(), t.mrays.end())), cell("%.2f", median(t.speedups)),
+             cell("%.3g", image.max_error), cell("%.3g", image.rms_error),
+             cell("%.1f", image.rms_error == 0 ? INFINITY : image.psnr), cell("%.3f", 100 * over_share),
+             cell("%.3g", rays.t_relative_p50), cell("%.3g", rays.t_relative_p999), cell("%.3g", rays.t_relative_max),
+             cell("%.3g", rays.normal_angle_max_degrees), cell("%.0f", rays.per_million(rays.hit_miss_disagreements)),
+             cell("%.0f", rays.per_million(rays.other_object))});
         Summary& s = summaries[i];
         s.speedups.push_back(median(t.speedups));
         s.image_rms = std::max(s.image_rms, image.rms_error);
@@ -187,7 +189,8 @@ void bench_scene(const std::string& name, const scene::Scene& scene, const Bench
     sse_seconds = {median(timings[2].seconds), median(timings.back().seconds)};
 }
 
-void add_summary(const std::vector<Configuration>& configurations, const std::vector<Summary>& summaries, Report& report) {
+void add_summary(const std::vector<Configuration>& configurations, const std::vector<Summary>& summaries,
+                 Report& report) {
     for (std::size_t i = 0; i < configurations.size(); ++i) {
         const Summary& s = summaries[i];
         double log_sum = 0;
@@ -195,12 +198,13 @@ void add_summary(const std::vector<Configuration>& configurations, const std::ve
             log_sum += std::log(speedup);
         }
         double geometric_mean = std::exp(log_sum / static_cast<double>(s.speedups.size()));
-        report.summary.add_row({configurations[i].label, cell("%.2f", geometric_mean),
-                                cell("%.2f", *std::min_element(s.speedups.begin(), s.speedups.end())),
-                                cell("%.2f", *std::max_element(s.speedups.begin(), s.speedups.end())),
-                                cell("%.3g", s.image_max), cell("%.3g", s.image_rms), cell("%.3f", 100 * s.over_share),
-                                cell("%.3g", s.t_p999), cell("%.3g", s.t_max), cell("%.3g", s.normal_max),
-                                cell("%.0f", s.rays == 0 ? 0 : 1e6 * static_cast<double>(s.hit_miss) / static_cast<double>(s.rays))});
+        report.summary.add_row(
+            {configurations[i].label, cell("%.2f", geometric_mean),
+             cell("%.2f", *std::min_element(s.speedups.begin(), s.speedups.end())),
+             cell("%.2f", *std::max_element(s.speedups.begin(), s.speedups.end())), cell("%.3g", s.image_max),
+             cell("%.3g", s.image_rms), cell("%.3f", 100 * s.over_share), cell("%.3g", s.t_p999), cell("%.3g", s.t_max),
+             cell("%.3g", s.normal_max),
+             cell("%.0f", s.rays == 0 ? 0 : 1e6 * static_cast<double>(s.hit_miss) / static_cast<double>(s.rays))});
     }
 }
 
@@ -219,7 +223,8 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
         for (int k = 0; k < 3; ++k) {
             auto start = std::chrono::steady_clock::now();
             if (k < 2) {
-                pov::render_with_povray(povray, folder, name, pov_text, size.width, size.height, k == 0 ? 1 : all_threads);
+                pov::render_with_povray(povray, folder, name, pov_text, size.width, size.height,
+                                        k == 0 ? 1 : all_threads);
             } else {
                 // Its own file name: OpenImageIO caches images by name, and the size differs.
                 pov::render_with_povray(povray, folder, name + "-1x1", tiny_text, 1, 1, 1);
@@ -229,8 +234,9 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
     }
     fs::remove_all(folder);
     double one = median(seconds[0]), all = median(seconds[1]), start_up = median(seconds[2]);
-    report.povray.add_row({name, cell("%.3f", one), cell("%.3f", all), cell("%.3f", start_up), cell("%.4f", sse_seconds[0]),
-                           cell("%.4f", sse_seconds[1]), cell("%.1f", one / sse_seconds[0]), cell("%.1f", all / sse_seconds[1]),
+    report.povray.add_row({name, cell("%.3f", one), cell("%.3f", all), cell("%.3f", start_up),
+                           cell("%.4f", sse_seconds[0]), cell("%.4f", sse_seconds[1]),
+                           cell("%.1f", one / sse_seconds[0]), cell("%.1f", all / sse_seconds[1]),
                            cell("%.1f", (one - start_up) / sse_seconds[0])});
 }
 
@@ -249,27 +255,30 @@ void bench_first_hits(const std::string& name, const scene::Scene& scene, int wi
         sse::FirstHits fast_hits = sse::cast_primary_rays(scene, options, all_fast_knobs());
         fast.push_back(static_cast<double>(fast_hits.rays) / seconds_since(start) / 1e6);
     }
-    std::vector<std::string> row = {name, std::to_string(hits.rays), cell("%.2f", median(exact)), cell("%.2f", median(fast))};
+    std::vector<std::string> row = {name, std::to_string(hits.rays), cell("%.2f", median(exact)),
+                                    cell("%.2f", median(fast))};
 #if TWINRAY_WITH_EMBREE
     if (std::string reason = peers::embree_unsupported_reason(scene); !reason.empty()) {
         row.insert(row.end(), {"n/a: " + reason, "", "", "", ""});
-    } else try {
-        peers::EmbreePeer embree(scene, width);
-        std::vector<double> single, packets;
-        std::uint64_t embree_hits = 0;
-        for (int run = 0; run < runs; ++run) {
-            peers::FirstHitRun one = embree.cast_single();
-            peers::FirstHitRun four = embree.cast_packets();
-            single.push_back(static_cast<double>(one.rays) / one.seconds / 1e6);
-            packets.push_back(static_cast<double>(four.rays) / four.seconds / 1e6);
-            embree_hits = one.hits;
+    } else
+        try {
+            peers::EmbreePeer embree(scene, width);
+            std::vector<double> single, packets;
+            std::uint64_t embree_hits = 0;
+            for (int run = 0; run < runs; ++run) {
+                peers::FirstHitRun one = embree.cast_single();
+                peers::FirstHitRun four = embree.cast_packets();
+                single.push_back(static_cast<double>(one.rays) / one.seconds / 1e6);
+                packets.push_back(static_cast<double>(four.rays) / four.seconds / 1e6);
+                embree_hits = one.hits;
+            }
+            row.insert(row.end(),
+                       {cell("%.2f", median(single)), cell("%.2f", median(packets)),
+                        cell("%.2f", median(exact) / median(single)), cell("%.2f", median(exact) / median(packets)),
+                        std::to_string(static_cast<long long>(hits.hits) - static_cast<long long>(embree_hits))});
+        } catch (const std::runtime_error& error) {
+            row.insert(row.end(), {std::string("failed: ") + error.what(), "", "", "", ""});
         }
-        row.insert(row.end(), {cell("%.2f", median(single)), cell("%.2f", median(packets)),
-                               cell("%.2f", median(exact) / median(single)), cell("%.2f", median(exact) / median(packets)),
-                               std::to_string(static_cast<long long>(hits.hits) - static_cast<long long>(embree_hits))});
-    } catch (const std::runtime_error& error) {
-        row.insert(row.end(), {std::string("failed: ") + error.what(), "", "", "", ""});
-    }
 #else
     row.insert(row.end(), {"not built", "", "", "", ""});
 #endif
@@ -297,7 +306,8 @@ void bench_scaling(const BenchArguments& arguments, int all_threads, Report& rep
     for (auto [count, width] : family) {
         scene::Scene scene = scene::sphere_field(count);
         scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
-        std::vector<std::string> row = {std::to_string(count), std::to_string(size.width) + "x" + std::to_string(size.height)};
+        std::vector<std::string> row = {std::to_string(count),
+                                        std::to_string(size.width) + "x" + std::to_string(size.height)};
         for (const Timings& timing : time_renders(configurations, scene, width, arguments.runs, nullptr)) {
             row.push_back(cell("%.1f", 1e3 / median(timing.mrays)));
         }
@@ -339,29 +349,42 @@ std::vector<std::string> default_scenes() {
 }
 
 Report empty_report(int all_threads, const BenchArguments& arguments) {
-    std::string setting = "median of " + std::to_string(arguments.runs) + " runs, width " + std::to_string(arguments.width);
+    std::string setting =
+        "median of " + std::to_string(arguments.runs) + " runs, width " + std::to_string(arguments.width);
     Report report;
     report.trade.title = "Speed and accuracy against ref<double> per scene (" + setting +
                          "; rays: primary, shadow, reflected, refracted)";
-    report.trade.headers = {"scene", "configuration", "Mrays/s", "min", "max", "speed-up", "img max err", "img RMS",
-                            "PSNR dB", "% px > 1/255", "t rel p50", "t rel p99.9", "t rel max", "normal max deg",
-                            "hit/miss per Mray", "other object per Mray"};
+    report.trade.headers = {"scene",     "configuration",  "Mrays/s",           "min",
+                            "max",       "speed-up",       "img max err",       "img RMS",
+                            "PSNR dB",   "% px > 1/255",   "t rel p50",         "t rel p99.9",
+                            "t rel max", "normal max deg", "hit/miss per Mray", "other object per Mray"};
     report.summary.title = "Every scene: geometric mean speed-up over ref<double> and the worst error of any scene";
-    report.summary.headers = {"configuration", "speed-up geomean", "speed-up min", "speed-up max", "img max err",
-                              "img RMS", "% px > 1/255", "t rel p99.9", "t rel max", "normal max deg", "hit/miss per Mray"};
-    report.povray.title = "POV-Ray 3.7 (no antialiasing, wall time per frame incl. start-up) against sse exact, " + setting;
-    report.povray.headers = {"scene", "povray +WT1 s", "povray +WT" + std::to_string(all_threads) + " s",
-                             "povray 1x1 px s", "sse 1T s", "sse " + std::to_string(all_threads) + "T s", "povray/sse 1T",
-                             "povray/sse " + std::to_string(all_threads) + "T", "(povray - 1x1)/sse 1T"};
+    report.summary.headers = {"configuration", "speed-up geomean", "speed-up min",     "speed-up max",
+                              "img max err",   "img RMS",          "% px > 1/255",     "t rel p99.9",
+                              "t rel max",     "normal max deg",   "hit/miss per Mray"};
+    report.povray.title =
+        "POV-Ray 3.7 (no antialiasing, wall time per frame incl. start-up) against sse exact, " + setting;
+    report.povray.headers = {"scene",
+                             "povray +WT1 s",
+                             "povray +WT" + std::to_string(all_threads) + " s",
+                             "povray 1x1 px s",
+                             "sse 1T s",
+                             "sse " + std::to_string(all_threads) + "T s",
+                             "povray/sse 1T",
+                             "povray/sse " + std::to_string(all_threads) + "T",
+                             "(povray - 1x1)/sse 1T"};
     report.first_hit.title = "First hits of primary rays only, one thread (Mrays/s), " + setting;
-    report.first_hit.headers = {"scene", "rays", "sse exact", "sse fast", "embree rtcIntersect1", "embree rtcIntersect4",
-                                "sse/embree1", "sse/embree4", "hits sse - embree"};
-    report.scaling.title = "Scaling: generated sphere fields, time per ray (ns, median of " + std::to_string(arguments.runs) +
+    report.first_hit.headers = {
+        "scene",       "rays",        "sse exact",        "sse fast", "embree rtcIntersect1", "embree rtcIntersect4",
+        "sse/embree1", "sse/embree4", "hits sse - embree"};
+    report.scaling.title = "Scaling: generated sphere fields, time per ray (ns, median of " +
+                           std::to_string(arguments.runs) +
                            " runs; every ray for renders, primary rays for first hits)";
     return report;
 }
 
-void write_outputs(const BenchArguments& arguments, const Report& report, const std::vector<const BenchTable*>& tables) {
+void write_outputs(const BenchArguments& arguments, const Report& report,
+                   const std::vector<const BenchTable*>& tables) {
     if (!arguments.markdown_path.empty()) {
         std::string text;
         for (const BenchTable* table : tables) {
@@ -377,9 +400,12 @@ void write_outputs(const BenchArguments& arguments, const Report& report, const 
             return csv.parent_path() / (csv.stem().string() + "-" + suffix + csv.extension().string());
         };
         io::write_text_atomically(beside("summary"), to_csv(report.summary));
-        if (!report.povray.rows.empty()) io::write_text_atomically(beside("povray"), to_csv(report.povray));
-        if (!report.first_hit.rows.empty()) io::write_text_atomically(beside("first-hit"), to_csv(report.first_hit));
-        if (!report.scaling.rows.empty()) io::write_text_atomically(beside("scaling"), to_csv(report.scaling));
+        if (!report.povray.rows.empty())
+            io::write_text_atomically(beside("povray"), to_csv(report.povray));
+        if (!report.first_hit.rows.empty())
+            io::write_text_atomically(beside("first-hit"), to_csv(report.first_hit));
+        if (!report.scaling.rows.empty())
+            io::write_text_atomically(beside("scaling"), to_csv(report.scaling));
     }
 }
 
@@ -414,7 +440,8 @@ int run_bench(const BenchArguments& arguments) {
             try {
                 bench_povray(name, scene, arguments, *povray, all_threads, sse_seconds, report);
             } catch (const pov::PovrayError& error) {
-                std::cerr << "twinray bench: POV-Ray failed on " << name << ", left out of its table: " << error.what() << "\n";
+                std::cerr << "twinray bench: POV-Ray failed on " << name << ", left out of its table: " << error.what()
+                          << "\n";
             }
         }
         if (arguments.peers) {
@@ -428,9 +455,12 @@ int run_bench(const BenchArguments& arguments) {
     }
     std::fputs("\n", stderr);
     std::vector<const BenchTable*> tables = {&report.trade, &report.summary};
-    if (!report.povray.rows.empty()) tables.push_back(&report.povray);
-    if (!report.first_hit.rows.empty()) tables.push_back(&report.first_hit);
-    if (!report.scaling.rows.empty()) tables.push_back(&report.scaling);
+    if (!report.povray.rows.empty())
+        tables.push_back(&report.povray);
+    if (!report.first_hit.rows.empty())
+        tables.push_back(&report.first_hit);
+    if (!report.scaling.rows.empty())
+        tables.push_back(&report.scaling);
     for (const BenchTable* table : tables) {
         std::fputs(to_console(*table).c_str(), stdout);
     }
@@ -458,8 +488,9 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
     command->add_option("--runs", arguments->runs, "Runs; each renders every configuration once; medians are reported")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
-    command->add_option("--width", arguments->width,
-                        "Render width; the height keeps each scene's aspect (long enough renders to time well)")
+    command
+        ->add_option("--width", arguments->width,
+                     "Render width; the height keeps each scene's aspect (long enough renders to time well)")
         ->check(CLI::Range(1, 16384))
         ->capture_default_str();
     command->add_option("--threads", arguments->threads, "Threads of the multi-threaded columns (default: all cores)")

@@ -99,10 +99,12 @@ void add_golden_command(CLI::App& app, std::function<int()>& run) {
         "golden",
         "Regenerate golden images: the reference tracer's 8-bit render of each scene, written atomically, with\n"
         "what changed per scene. Never runs implicitly: `ctest -L golden` only checks.");
-    command->add_flag("--update", arguments->update, "Write the golden images (required: updating is always on purpose)");
+    command->add_flag("--update", arguments->update,
+                      "Write the golden images (required: updating is always on purpose)");
     command->add_option("scenes", arguments->scenes, "Scene files (default: every .json in --scenes-folder)");
     command->add_option("--scenes-folder", arguments->scenes_folder, "Where the scenes are")->capture_default_str();
-    command->add_option("--golden-folder", arguments->golden_folder, "Where the golden images are")->capture_default_str();
+    command->add_option("--golden-folder", arguments->golden_folder, "Where the golden images are")
+        ->capture_default_str();
     command->callback([arguments, &run] { run = [arguments] { return run_golden(*arguments); }; });
 }
 

@@ -17,10 +17,11 @@
 
 int main(int argc, char** argv) {
     using namespace twinray::cli;
-    CLI::App app{"twinray: a double-precision reference ray tracer and a fast SSE4.1 tracer, held against each other.\n"
-                 "Exit status: 0 success, 1 usage error, 2 invalid scene, 3 output not writable, 4 unreadable or\n"
-                 "mismatched input image, 5 the CPU lacks SSE4.1 (use --tracer reference), 70 internal error.\n"
-                 "compare and diff: 0 pass, 1 warn, 2 fail (see their --help)."};
+    CLI::App app{
+        "twinray: a double-precision reference ray tracer and a fast SSE4.1 tracer, held against each other.\n"
+        "Exit status: 0 success, 1 usage error, 2 invalid scene, 3 output not writable, 4 unreadable or\n"
+        "mismatched input image, 5 the CPU lacks SSE4.1 (use --tracer reference), 70 internal error.\n"
+        "compare and diff: 0 pass, 1 warn, 2 fail (see their --help)."};
     app.require_subcommand(1);
     std::function<int()> run;
     add_render_command(app, run);

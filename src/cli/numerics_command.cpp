@@ -28,7 +28,8 @@ struct NumericsArguments {
 };
 
 std::vector<numerics::TracerKind> available_tracers() {
-    std::vector<numerics::TracerKind> kinds = {numerics::TracerKind::reference_double, numerics::TracerKind::reference_float};
+    std::vector<numerics::TracerKind> kinds = {numerics::TracerKind::reference_double,
+                                               numerics::TracerKind::reference_float};
     if (sse::cpu_supports_sse41()) {
         kinds.push_back(numerics::TracerKind::sse);
     } else {
@@ -67,8 +68,8 @@ std::string footprint_table(const scene::Scene& scene, int width) {
             for (const numerics::FootprintRatio& r :
                  numerics::footprint_ratios(numerics::transformed(scene, 1.0, shift), kind, width)) {
                 char row[160];
-                std::snprintf(row, sizeof row, "%s,%s,%g,%.3e\n", numerics::tracer_name(kind), r.primitive.c_str(), shift,
-                              r.max_ratio);
+                std::snprintf(row, sizeof row, "%s,%s,%g,%.3e\n", numerics::tracer_name(kind), r.primitive.c_str(),
+                              shift, r.max_ratio);
                 csv << row;
             }
         }
@@ -91,9 +92,10 @@ int run_numerics(const NumericsArguments& arguments) {
         }
     }
     const scene::Scene& first = scenes.front().second;
-    std::string table = arguments.footprint
-                            ? footprint_table(first, arguments.footprint_width > 0 ? arguments.footprint_width : first.width)
-                            : scale_table(scenes, arguments.grid);
+    std::string table =
+        arguments.footprint
+            ? footprint_table(first, arguments.footprint_width > 0 ? arguments.footprint_width : first.width)
+            : scale_table(scenes, arguments.grid);
     if (arguments.csv_path.empty()) {
         std::cout << table;
         return exit_success;
@@ -121,9 +123,14 @@ void add_numerics_command(CLI::App& app, std::function<int()>& run) {
         "that error to the pixel's footprint.");
     command->add_option("scenes", arguments->scenes, "Scene files")->required()->check(CLI::ExistingFile);
     command->add_option("--csv", arguments->csv_path, "Write the CSV here (atomically) instead of stdout");
-    command->add_option("--grid", arguments->grid, "Primary rays per side of the grid")->check(CLI::Range(1, 1024))->capture_default_str();
-    command->add_flag("--footprint", arguments->footprint, "Error against pixel footprint, scene moved away from the origin");
-    command->add_option("--footprint-width", arguments->footprint_width, "Image width for --footprint (default: the scene's)")
+    command->add_option("--grid", arguments->grid, "Primary rays per side of the grid")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
+    command->add_flag("--footprint", arguments->footprint,
+                      "Error against pixel footprint, scene moved away from the origin");
+    command
+        ->add_option("--footprint-width", arguments->footprint_width,
+                     "Image width for --footprint (default: the scene's)")
         ->check(CLI::Range(1, 4096));
     command->callback([arguments, &run] { run = [arguments] { return run_numerics(*arguments); }; });
 }

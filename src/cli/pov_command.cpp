@@ -63,12 +63,14 @@ int run_pov(const PovArguments& arguments) {
 
 void add_pov_command(CLI::App& app, std::function<int()>& run) {
     auto arguments = std::make_shared<PovArguments>();
-    CLI::App* command = app.add_subcommand("pov", "Export a scene as a POV-Ray 3.7 scene (.pov) that renders the same image");
+    CLI::App* command =
+        app.add_subcommand("pov", "Export a scene as a POV-Ray 3.7 scene (.pov) that renders the same image");
     command->add_option("scene", arguments->scene_path, "Scene file (twinray-scene/1 JSON)")->required();
     command->add_option("-o,--output", arguments->output_path, "Output POV-Ray scene; default: SCENE's name .pov");
     command->add_option("--width", arguments->width, "Image width; alone, the height follows the scene's aspect ratio")
         ->check(CLI::Range(1, 16384));
-    command->add_option("--height", arguments->height, "Image height; alone, the width follows the scene's aspect ratio")
+    command
+        ->add_option("--height", arguments->height, "Image height; alone, the width follows the scene's aspect ratio")
         ->check(CLI::Range(1, 16384));
     command->callback([arguments, &run] { run = [arguments] { return run_pov(*arguments); }; });
 }

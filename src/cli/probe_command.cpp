@@ -100,7 +100,8 @@ void parse_ray(const std::string& text, Target& target) {
         }
     }
     if (parts.size() != 6 || values.size() != 6) {
-        throw UsageError("--ray wants ox,oy,oz,dx,dy,dz: six numbers, the origin then the direction; got \"" + text + "\"");
+        throw UsageError("--ray wants ox,oy,oz,dx,dy,dz: six numbers, the origin then the direction; got \"" + text +
+                         "\"");
     }
     for (double value : values) {
         if (!std::isfinite(value)) {
@@ -109,7 +110,8 @@ void parse_ray(const std::string& text, Target& target) {
     }
     for (int axis = 0; axis < 3; ++axis) {
         if (std::fabs(values[static_cast<std::size_t>(axis)]) > FLT_MAX) {
-            throw UsageError("--ray: the origin is beyond single precision (|component| > 3.4e38), which the sse tracer uses");
+            throw UsageError(
+                "--ray: the origin is beyond single precision (|component| > 3.4e38), which the sse tracer uses");
         }
     }
     // Normalised after scaling by the largest component, so that neither tiny nor huge values overflow.
@@ -256,20 +258,30 @@ std::string row_of(const std::string& what) {
 
 // The value of one row for one node, as text ("" where the node has no such field).
 std::string row_text(const scene::Scene& scene, const RayNode& node, const std::string& row) {
-    if (row == "origin") return format_vector(node.origin);
-    if (row == "direction") return format_vector(node.direction);
+    if (row == "origin")
+        return format_vector(node.origin);
+    if (row == "direction")
+        return format_vector(node.direction);
     if (row == "hit") {
-        if (!node.hit) return "miss (background)";
+        if (!node.hit)
+            return "miss (background)";
         return object_name(scene, node.leaf) + " (" + material_name(scene, node.leaf) + "), " +
                (node.entering ? "entering" : "leaving");
     }
-    if (row == "local colour") return format_vector(node.local, "%.6f");
-    if (row == "total colour") return format_vector(node.total, "%.6f");
-    if (row == "ray") return std::string(ray_kind_name(node.kind)) + " ray, depth " + std::to_string(node.depth);
-    if (!node.hit) return "";
-    if (row == "t") return format("%.9g", node.t);
-    if (row == "point") return format_vector(node.point);
-    if (row == "normal") return format_vector(node.normal);
+    if (row == "local colour")
+        return format_vector(node.local, "%.6f");
+    if (row == "total colour")
+        return format_vector(node.total, "%.6f");
+    if (row == "ray")
+        return std::string(ray_kind_name(node.kind)) + " ray, depth " + std::to_string(node.depth);
+    if (!node.hit)
+        return "";
+    if (row == "t")
+        return format("%.9g", node.t);
+    if (row == "point")
+        return format_vector(node.point);
+    if (row == "normal")
+        return format_vector(node.normal);
     if (row.rfind("lights[", 0) == 0) {
         std::size_t light = static_cast<std::size_t>(std::stoi(row.substr(7)));
         return light < node.lights.size() ? describe_light(node.lights[light]) : "";
@@ -295,11 +307,11 @@ std::string amount_text(const Divergence& d) {
     if (d.threshold == 0) {
         return "";
     }
-    std::string unit = d.what == "t"                                  ? " of S, across the surface (|dt| |cos|)"
-                       : d.what == "origin"                           ? " of S"
+    std::string unit = d.what == "t"                                 ? " of S, across the surface (|dt| |cos|)"
+                       : d.what == "origin"                          ? " of S"
                        : d.what == "direction" || d.what == "normal" ? " rad"
-                       : d.what.find("colour") != std::string::npos ? " in a channel"
-                                                                      : "";
+                       : d.what.find("colour") != std::string::npos  ? " in a channel"
+                                                                     : "";
     return format("%.3g", d.amount) + unit + " > " + format("%.3g", d.threshold);
 }
 
@@ -320,17 +332,20 @@ void print_text(const scene::Scene& scene, const std::string& scene_path, const 
         std::printf("probe: %s, ray from %s towards %s (normalised)\n", scene_path.c_str(),
                     format_vector(target.origin, "%.9g").c_str(), format_vector(target.direction, "%.9g").c_str());
     }
-    std::printf("divergence: t across the surface (|dt| |cos|) %g of S = |origin| + t_parent + t; normal and direction\n"
-                "  %g rad; shadow transmittance %g; colour %.4f (1/255) in a channel; any change of hit or miss, object,\n"
-                "  entering, a light facing away or blocked, or a ray traced by one tracer only (docs/probe.md)\n",
-                limits.position, limits.angle, limits.transmittance, limits.color);
+    std::printf(
+        "divergence: t across the surface (|dt| |cos|) %g of S = |origin| + t_parent + t; normal and direction\n"
+        "  %g rad; shadow transmittance %g; colour %.4f (1/255) in a channel; any change of hit or miss, object,\n"
+        "  entering, a light facing away or blocked, or a ray traced by one tracer only (docs/probe.md)\n",
+        limits.position, limits.angle, limits.transmittance, limits.color);
     if (sse == nullptr) {
         std::printf("note: %s; showing the reference's tree only\n", sse_note.c_str());
     }
     // Divergences by (reference node, sse node, row), the first one apart.
     std::map<std::pair<std::pair<int, int>, std::string>, std::size_t> marks;
     for (std::size_t k = 0; k < divergences.size(); ++k) {
-        marks.emplace(std::make_pair(std::make_pair(divergences[k].first, divergences[k].second), row_of(divergences[k].what)), k);
+        marks.emplace(
+            std::make_pair(std::make_pair(divergences[k].first, divergences[k].second), row_of(divergences[k].what)),
+            k);
     }
     constexpr std::size_t label_width = 14;
     constexpr std::size_t column_width = 46;
@@ -358,7 +373,8 @@ void print_text(const scene::Scene& scene, const std::string& scene_path, const 
         if (p == nullptr || q == nullptr) {
             if (sse != nullptr) {
                 std::printf("%s%s%s\n", pad("", label_width).c_str(),
-                            pad(p != nullptr ? "" : "(not traced)", column_width).c_str(), q != nullptr ? "" : "(not traced)");
+                            pad(p != nullptr ? "" : "(not traced)", column_width).c_str(),
+                            q != nullptr ? "" : "(not traced)");
             }
         }
         for (const std::string& row : rows_of(light_count)) {
@@ -389,7 +405,8 @@ void print_text(const scene::Scene& scene, const std::string& scene_path, const 
         std::printf("  traced by %s only\n", p != nullptr ? "the reference" : "sse");
     } else {
         std::string row = row_of(first.what);
-        std::printf("  reference: %s\n  sse:       %s\n", row_text(scene, *p, row).c_str(), row_text(scene, *q, row).c_str());
+        std::printf("  reference: %s\n  sse:       %s\n", row_text(scene, *p, row).c_str(),
+                    row_text(scene, *q, row).c_str());
         if (std::string amount = amount_text(first); !amount.empty()) {
             std::printf("  by %s\n", amount.c_str());
         }
@@ -403,7 +420,9 @@ void print_text(const scene::Scene& scene, const std::string& scene_path, const 
 // ---------------------------------------------------------------------------------------------------
 // JSON
 
-Json to_json(const Vec3d& v) { return Json::array({v[0], v[1], v[2]}); }
+Json to_json(const Vec3d& v) {
+    return Json::array({v[0], v[1], v[2]});
+}
 
 Json first_hit_json(const scene::Scene& scene, const RayTree& tree) {
     if (tree.nodes.empty() || !tree.nodes.front().hit) {
@@ -420,7 +439,9 @@ Json first_hit_json(const scene::Scene& scene, const RayTree& tree) {
 }
 
 Json light_json(const LightVisibility& light, std::size_t index) {
-    Json json{{"light", "lights[" + std::to_string(index) + "]"}, {"n_dot_l", light.n_dot_l}, {"faces_away", light.faces_away}};
+    Json json{{"light", "lights[" + std::to_string(index) + "]"},
+              {"n_dot_l", light.n_dot_l},
+              {"faces_away", light.faces_away}};
     if (!light.faces_away) {
         json["transmittance"] = light.transmittance;
         json["shadow_origin"] = to_json(light.shadow_origin);
@@ -431,12 +452,8 @@ Json light_json(const LightVisibility& light, std::size_t index) {
 
 Json node_json(const scene::Scene& scene, const RayTree& tree, int index) {
     const RayNode& node = tree.nodes[static_cast<std::size_t>(index)];
-    Json json{{"index", index},
-              {"kind", ray_kind_name(node.kind)},
-              {"depth", node.depth},
-              {"parent", node.parent},
-              {"origin", to_json(node.origin)},
-              {"direction", to_json(node.direction)},
+    Json json{{"index", index},        {"kind", ray_kind_name(node.kind)}, {"depth", node.depth},
+              {"parent", node.parent}, {"origin", to_json(node.origin)},   {"direction", to_json(node.direction)},
               {"hit", node.hit}};
     if (node.hit) {
         json["object"] = object_name(scene, node.leaf);
@@ -477,16 +494,26 @@ Json divergence_value(const scene::Scene& scene, const RayNode* node, const std:
     if (node == nullptr) {
         return nullptr;
     }
-    if (what == "origin") return to_json(node->origin);
-    if (what == "direction") return to_json(node->direction);
-    if (what == "hit") return node->hit;
-    if (what == "object") return node->hit ? Json(object_name(scene, node->leaf)) : Json();
-    if (what == "entering") return node->entering;
-    if (what == "t") return node->t;
-    if (what == "normal") return to_json(node->normal);
-    if (what == "local colour") return to_json(node->local);
-    if (what == "total colour") return to_json(node->total);
-    if (what == "ray") return ray_kind_name(node->kind);
+    if (what == "origin")
+        return to_json(node->origin);
+    if (what == "direction")
+        return to_json(node->direction);
+    if (what == "hit")
+        return node->hit;
+    if (what == "object")
+        return node->hit ? Json(object_name(scene, node->leaf)) : Json();
+    if (what == "entering")
+        return node->entering;
+    if (what == "t")
+        return node->t;
+    if (what == "normal")
+        return to_json(node->normal);
+    if (what == "local colour")
+        return to_json(node->local);
+    if (what == "total colour")
+        return to_json(node->total);
+    if (what == "ray")
+        return ray_kind_name(node->kind);
     if (what.rfind("lights[", 0) == 0) {
         std::size_t light = static_cast<std::size_t>(std::stoi(what.substr(7)));
         return light < node->lights.size() ? light_json(node->lights[light], light) : Json();
@@ -498,7 +525,10 @@ Json divergence_json(const scene::Scene& scene, const Divergence& d, const RayTr
     const RayNode* p = node_at(&a, d.first);
     const RayNode* q = node_at(&b, d.second);
     const RayNode& any = p != nullptr ? *p : *q;
-    Json json{{"reference_node", d.first}, {"sse_node", d.second}, {"depth", any.depth}, {"kind", ray_kind_name(any.kind)},
+    Json json{{"reference_node", d.first},
+              {"sse_node", d.second},
+              {"depth", any.depth},
+              {"kind", ray_kind_name(any.kind)},
               {"what", d.what}};
     if (d.threshold > 0) {
         json["amount"] = d.amount;
@@ -520,9 +550,12 @@ void print_json(const scene::Scene& scene, const std::string& scene_path, const 
         json["ray"] = {{"origin", to_json(target.origin)}, {"direction", to_json(target.direction)}};
     }
     // Keyed like a divergence's "what" (a light's is "transmittance"); t: |dt|·|cos θ| over S.
-    json["thresholds"] = {{"origin", limits.position},    {"direction", limits.angle},
-                          {"t", limits.position},         {"normal", limits.angle},
-                          {"transmittance", limits.transmittance}, {"local colour", limits.color},
+    json["thresholds"] = {{"origin", limits.position},
+                          {"direction", limits.angle},
+                          {"t", limits.position},
+                          {"normal", limits.angle},
+                          {"transmittance", limits.transmittance},
+                          {"local colour", limits.color},
                           {"total colour", limits.color}};
     json["reference"] = tracer_json(scene, reference);
     json["sse"] = sse != nullptr ? tracer_json(scene, *sse) : Json();
@@ -580,7 +613,8 @@ int run_probe(const ProbeArguments& arguments) {
         sse_note = "sse not run: " + sse::missing_sse41_message();
     }
     DivergenceThresholds limits;
-    std::vector<Divergence> divergences = sse ? find_divergences(reference.tree, sse->tree, limits) : std::vector<Divergence>{};
+    std::vector<Divergence> divergences =
+        sse ? find_divergences(reference.tree, sse->tree, limits) : std::vector<Divergence>{};
     const Probe* other = sse ? &*sse : nullptr;
     if (arguments.json) {
         print_json(scene, arguments.scene_path, target, reference, other, sse_note, divergences, limits);
@@ -595,15 +629,21 @@ int run_probe(const ProbeArguments& arguments) {
 void add_probe_command(CLI::App& app, std::function<int()>& run) {
     auto arguments = std::make_shared<ProbeArguments>();
     CLI::App* command = app.add_subcommand(
-        "probe", "Trace one pixel (or ray) with both tracers and print the two ray trees side by side, marking "
-                 "where they first diverge");
+        "probe",
+        "Trace one pixel (or ray) with both tracers and print the two ray trees side by side, marking "
+        "where they first diverge");
     command->add_option("scene", arguments->scene_path, "Scene file (twinray-scene/1 JSON)")->required();
-    command->add_option("--pixel", arguments->pixel, "X,Y: the pixel's primary ray, as render traces it (0,0 top-left)");
+    command->add_option("--pixel", arguments->pixel,
+                        "X,Y: the pixel's primary ray, as render traces it (0,0 top-left)");
     command->add_option("--ray", arguments->ray,
                         "ox,oy,oz,dx,dy,dz: a ray given by hand; the direction is normalised, so t is a distance");
-    command->add_option("--width", arguments->width, "Image width for --pixel, as render; alone, the height follows the scene's aspect ratio")
+    command
+        ->add_option("--width", arguments->width,
+                     "Image width for --pixel, as render; alone, the height follows the scene's aspect ratio")
         ->check(CLI::Range(1, 16384));
-    command->add_option("--height", arguments->height, "Image height for --pixel, as render; alone, the width follows the scene's aspect ratio")
+    command
+        ->add_option("--height", arguments->height,
+                     "Image height for --pixel, as render; alone, the width follows the scene's aspect ratio")
         ->check(CLI::Range(1, 16384));
     command->add_flag("--json", arguments->json, "Print one JSON object (docs/probe.md) instead of the table");
     command->callback([arguments, &run] { run = [arguments] { return run_probe(*arguments); }; });

@@ -6,6 +6,7 @@
 #include "io/atomic_file.h"
 #include "scene/loader.h"
 
+#include <unistd.h>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -17,7 +18,6 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <unistd.h>
 
 namespace twinray::cli {
 namespace {
@@ -29,7 +29,9 @@ namespace fs = std::filesystem;
 std::atomic<bool> interrupted{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
 
-void on_interrupt(int) { interrupted.store(true, std::memory_order_relaxed); }
+void on_interrupt(int) {
+    interrupted.store(true, std::memory_order_relaxed);
+}
 
 // Catches SIGINT for as long as it lives, then restores what was there before. It lives for the whole
 // render command, writing included: a Ctrl-C that arrives once the image is being written lets the
@@ -68,7 +70,8 @@ struct RenderArguments {
 // Refuse an output we could not write before spending time on the render.
 std::string output_problem(const fs::path& output) {
     if (!is_supported_image_path(output)) {
-        return "unsupported image format \"" + output.extension().string() + "\"; allowed: .png (8-bit) or .exr (float)";
+        return "unsupported image format \"" + output.extension().string() +
+               "\"; allowed: .png (8-bit) or .exr (float)";
     }
     return io::output_folder_problem(output);
 }
@@ -156,7 +159,8 @@ int run_render(const RenderArguments& arguments) {
         return exit_output_error;
     }
     std::printf("scene:       %s\n", arguments.scene_path.c_str());
-    std::printf("tracer:      %s (%d thread%s)\n", arguments.tracer.c_str(), options.threads, options.threads == 1 ? "" : "s");
+    std::printf("tracer:      %s (%d thread%s)\n", arguments.tracer.c_str(), options.threads,
+                options.threads == 1 ? "" : "s");
     if (arguments.tracer == "sse") {
         std::printf("precision:   %s\n", sse::precision_name(arguments.precision).c_str());
     }
@@ -178,7 +182,8 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
                         "Output image: .png (8-bit, clamped, no gamma) or .exr (float); default: SCENE's name .png");
     command->add_option("--width", arguments->width, "Image width; alone, the height follows the scene's aspect ratio")
         ->check(CLI::Range(1, 16384));
-    command->add_option("--height", arguments->height, "Image height; alone, the width follows the scene's aspect ratio")
+    command
+        ->add_option("--height", arguments->height, "Image height; alone, the width follows the scene's aspect ratio")
         ->check(CLI::Range(1, 16384));
     std::string tracer_help = "Tracer:";
     for (const std::string& name : tracer_names()) {
@@ -187,7 +192,9 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     command->add_option("--tracer", arguments->tracer, tracer_help)
         ->check(CLI::IsMember(tracer_names()))
         ->capture_default_str();
-    command->add_option("--threads", arguments->threads, "Worker threads (default: all cores); the image is identical for any count")
+    command
+        ->add_option("--threads", arguments->threads,
+                     "Worker threads (default: all cores); the image is identical for any count")
         ->check(CLI::Range(1, 1024));
     add_precision_options(*command, arguments->precision);
     command->callback([arguments, &run] { run = [arguments] { return run_render(*arguments); }; });

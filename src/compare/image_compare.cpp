@@ -33,7 +33,9 @@ Image from_buffer(const OIIO::ImageBuf& buffer) {
     }
     for (int y = 0; y < spec.height; ++y) {
         for (int x = 0; x < spec.width; ++x) {
-            const float* p = &pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(spec.width) + static_cast<std::size_t>(x)) * 3];
+            const float* p = &pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(spec.width) +
+                                      static_cast<std::size_t>(x)) *
+                                     3];
             image.at(x, y) = {p[0], p[1], p[2]};
         }
     }
@@ -42,8 +44,9 @@ Image from_buffer(const OIIO::ImageBuf& buffer) {
 
 void require_same_size(const Image& a, const Image& b) {
     if (a.width() != b.width() || a.height() != b.height()) {
-        throw ImageReadError("the images differ in size: " + std::to_string(a.width()) + " x " + std::to_string(a.height()) +
-                             " and " + std::to_string(b.width()) + " x " + std::to_string(b.height()));
+        throw ImageReadError("the images differ in size: " + std::to_string(a.width()) + " x " +
+                             std::to_string(a.height()) + " and " + std::to_string(b.width()) + " x " +
+                             std::to_string(b.height()));
     }
 }
 
@@ -73,8 +76,8 @@ const char* to_string(Verdict verdict) {
 
 Metrics measure(const Image& a, const Image& b, const Thresholds& thresholds) {
     require_same_size(a, b);
-    OIIO::ImageBufAlgo::CompareResults result =
-        OIIO::ImageBufAlgo::compare(view(a), view(b), static_cast<float>(thresholds.fail), static_cast<float>(thresholds.warn));
+    OIIO::ImageBufAlgo::CompareResults result = OIIO::ImageBufAlgo::compare(
+        view(a), view(b), static_cast<float>(thresholds.fail), static_cast<float>(thresholds.warn));
     Metrics metrics;
     metrics.mean_error = result.meanerror;
     metrics.rms_error = result.rms_error;
@@ -91,7 +94,8 @@ Metrics measure(const Image& a, const Image& b, const Thresholds& thresholds) {
 
 Verdict judge(const Metrics& metrics, const Thresholds& thresholds) {
     double total = static_cast<double>(std::max(metrics.pixel_count, 1L));
-    if (100.0 * static_cast<double>(metrics.fail_pixels) / total > thresholds.fail_percent || metrics.max_error > thresholds.hard_fail) {
+    if (100.0 * static_cast<double>(metrics.fail_pixels) / total > thresholds.fail_percent ||
+        metrics.max_error > thresholds.hard_fail) {
         return Verdict::fail;
     }
     if (100.0 * static_cast<double>(metrics.warn_pixels) / total > thresholds.warn_percent) {
@@ -220,7 +224,8 @@ Image read_image(const std::filesystem::path& path, std::int64_t pixel_limit) {
     for (int y = 0; y < spec.height; ++y) {
         for (int x = 0; x < spec.width; ++x) {
             const float* p = &samples[(static_cast<std::size_t>(y) * static_cast<std::size_t>(spec.width) +
-                                       static_cast<std::size_t>(x)) * static_cast<std::size_t>(channels)];
+                                       static_cast<std::size_t>(x)) *
+                                      static_cast<std::size_t>(channels)];
             image.at(x, y) = channels == 3 ? Rgb{p[0], p[1], p[2]} : Rgb{p[0], p[0], p[0]};
         }
     }

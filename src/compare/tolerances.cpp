@@ -57,7 +57,8 @@ SceneTolerances read_entry(const json& object, const SceneTolerances& base, cons
         } else if (key == "golden") {
             out.golden = read_thresholds(value, base.golden, file, where + ".golden");
         } else if (key == "why") {
-            if (!value.is_string()) refuse(file, where + ".why", "expected a string");
+            if (!value.is_string())
+                refuse(file, where + ".why", "expected a string");
             out.why = value.get<std::string>();
         } else {
             refuse(file, where + "." + key, "unknown key; allowed: sse, golden, why");
@@ -89,7 +90,8 @@ ToleranceManifest ToleranceManifest::load(const std::filesystem::path& file) {
         if (key == "default") {
             manifest.defaults_ = read_entry(value, manifest.defaults_, file, "default");
         } else if (key == "scenes") {
-            if (!value.is_object()) refuse(file, "scenes", "expected an object: scene name -> entry");
+            if (!value.is_object())
+                refuse(file, "scenes", "expected an object: scene name -> entry");
             for (const auto& [name, entry] : value.items()) {
                 manifest.scenes_[name] = read_entry(entry, manifest.defaults_, file, "scenes." + name);
             }

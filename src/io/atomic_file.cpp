@@ -1,12 +1,12 @@
 #include "io/atomic_file.h"
 
+#include <unistd.h>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <memory>
 #include <string>
 #include <system_error>
-#include <unistd.h>
 
 namespace twinray::io {
 namespace {

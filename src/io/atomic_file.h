@@ -19,7 +19,8 @@ public:
 // Calls write(temporary_path), then renames the temporary over `path`. The temporary keeps the
 // target's extension (some writers choose the format by it). On any exception the temporary is
 // removed and the error is rethrown as FileWriteError naming `path`.
-void write_atomically(const std::filesystem::path& path, const std::function<void(const std::filesystem::path&)>& write);
+void write_atomically(const std::filesystem::path& path,
+                      const std::function<void(const std::filesystem::path&)>& write);
 
 void write_text_atomically(const std::filesystem::path& path, std::string_view text);
 

@@ -20,11 +20,21 @@ struct Point {
     Real x, y, z;
 };
 
-Point to_point(const scene::Vec3& v) { return {v[0], v[1], v[2]}; }
-Point operator-(Point a, Point b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-Point operator*(Real s, Point a) { return {s * a.x, s * a.y, s * a.z}; }
-Real dot(Point a, Point b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Real length(Point a) { return std::sqrt(dot(a, a)); }
+Point to_point(const scene::Vec3& v) {
+    return {v[0], v[1], v[2]};
+}
+Point operator-(Point a, Point b) {
+    return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+Point operator*(Real s, Point a) {
+    return {s * a.x, s * a.y, s * a.z};
+}
+Real dot(Point a, Point b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+Real length(Point a) {
+    return std::sqrt(dot(a, a));
+}
 
 // A cylinder's base, unit axis and height, in long double.
 struct CylinderFrame {
@@ -151,7 +161,8 @@ Real first_crossing(const scene::Object& primitive, const Vec3d& origin, const V
 // primitive again close by is found where the exact line crosses it, and is not counted).
 bool is_self_hit(const RayNode& node, const scene::Object& primitive, const Vec3d& origin, const Vec3d& direction,
                  const FirstHit& next) {
-    return next.hit && next.leaf == node.leaf && next.t < 0.5 * static_cast<double>(first_crossing(primitive, origin, direction));
+    return next.hit && next.leaf == node.leaf &&
+           next.t < 0.5 * static_cast<double>(first_crossing(primitive, origin, direction));
 }
 
 }  // namespace
@@ -193,7 +204,8 @@ scene::Scene transformed(const scene::Scene& scene, double scale, double shift, 
     scene::Scene result = scene;
     scene::Vec3 eye;
     for (int axis = 0; axis < 3; ++axis) {
-        eye[axis] = scene.camera.look_at[axis] + camera_distance * (scene.camera.eye[axis] - scene.camera.look_at[axis]);
+        eye[axis] =
+            scene.camera.look_at[axis] + camera_distance * (scene.camera.eye[axis] - scene.camera.look_at[axis]);
     }
     double half_angle = scene.camera.fov_deg * std::numbers::pi / 360;
     result.camera.fov_deg = std::atan(std::tan(half_angle) / camera_distance) * 360 / std::numbers::pi;
@@ -210,7 +222,8 @@ scene::Scene transformed(const scene::Scene& scene, double scale, double shift, 
 
 scene::Scene rounded_to_float(const scene::Scene& scene) {
     auto round_vec = [](scene::Vec3& v) {
-        for (double& c : v) c = static_cast<float>(c);
+        for (double& c : v)
+            c = static_cast<float>(c);
     };
     std::function<void(scene::Object&)> round_object = [&](scene::Object& object) {
         std::visit(
@@ -230,7 +243,8 @@ scene::Scene rounded_to_float(const scene::Scene& scene) {
                     round_vec(shape.min);
                     round_vec(shape.max);
                 } else {
-                    for (scene::Object& child : shape.children) round_object(child);
+                    for (scene::Object& child : shape.children)
+                        round_object(child);
                 }
             },
             object.shape);
@@ -419,7 +433,9 @@ Measurement measure(const scene::Scene& scene, TracerKind kind, int grid, double
             const RayNode& primary = tree.nodes.front();
             if (primary.hit) {
                 ++m.hits;
-                double error = static_cast<double>(distance_to_surface(*leaves[static_cast<std::size_t>(primary.leaf)], primary.point)) / size;
+                double error = static_cast<double>(distance_to_surface(*leaves[static_cast<std::size_t>(primary.leaf)],
+                                                                       primary.point)) /
+                               size;
                 m.max_error = std::isfinite(error) ? std::max(m.max_error, error) : error;
             }
             for (std::size_t i = 0; i < tree.nodes.size(); ++i) {

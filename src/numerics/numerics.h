@@ -79,12 +79,12 @@ Vec3d exact_normal(const scene::Object& primitive, const Vec3d& point);
 
 // What one tracer does with a grid of primary rays and every ray they spawn.
 struct Measurement {
-    int rays = 0;                   // primary rays
-    int hits = 0;                   // primary rays that hit
-    double max_error = 0;           // largest distance of a primary hit point from its true surface, / size
-    int secondary = 0;              // secondary and shadow rays that left a surface
-    int acne = 0;                   // of them, re-hit the primitive they left well before the exact line does
-    int leaks = 0;                  // refracted rays into a solid that found no surface to leave it by
+    int rays = 0;          // primary rays
+    int hits = 0;          // primary rays that hit
+    double max_error = 0;  // largest distance of a primary hit point from its true surface, / size
+    int secondary = 0;     // secondary and shadow rays that left a surface
+    int acne = 0;          // of them, re-hit the primitive they left well before the exact line does
+    int leaks = 0;         // refracted rays into a solid that found no surface to leave it by
 };
 
 // `size` is the length the errors are measured in (the object's size); `grid` × `grid` primary rays

@@ -47,16 +47,19 @@ scene::Vec3 combine(const scene::Vec3& p, double a, const scene::Vec3& u, double
 void add_plane(const scene::Plane& plane, Quads& quads) {
     const scene::Vec3& n = plane.normal;
     // A tangent: n crossed with the axis n is least aligned with, then the second by n × first.
-    int least = std::fabs(n[0]) <= std::fabs(n[1]) && std::fabs(n[0]) <= std::fabs(n[2]) ? 0 : std::fabs(n[1]) <= std::fabs(n[2]) ? 1 : 2;
+    int least = std::fabs(n[0]) <= std::fabs(n[1]) && std::fabs(n[0]) <= std::fabs(n[2]) ? 0
+                : std::fabs(n[1]) <= std::fabs(n[2])                                     ? 1
+                                                                                         : 2;
     scene::Vec3 axis{least == 0 ? 1.0 : 0.0, least == 1 ? 1.0 : 0.0, least == 2 ? 1.0 : 0.0};
     scene::Vec3 u{n[1] * axis[2] - n[2] * axis[1], n[2] * axis[0] - n[0] * axis[2], n[0] * axis[1] - n[1] * axis[0]};
     double length = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (double& c : u) c /= length;
+    for (double& c : u)
+        c /= length;
     scene::Vec3 v{n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
     scene::Vec3 centre{plane.offset * n[0], plane.offset * n[1], plane.offset * n[2]};
     const double e = plane_extent;
-    const scene::Vec3 corners[4] = {combine(centre, -e, u, -e, v), combine(centre, e, u, -e, v), combine(centre, e, u, e, v),
-                                    combine(centre, -e, u, e, v)};
+    const scene::Vec3 corners[4] = {combine(centre, -e, u, -e, v), combine(centre, e, u, -e, v),
+                                    combine(centre, e, u, e, v), combine(centre, -e, u, e, v)};
     quads.add(corners);
 }
 
@@ -104,8 +107,9 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
         if (args->valid[i] == 0) {
             continue;
         }
-        reference::Ray<float> ray{{RTCRayN_org_x(rays, args->N, i), RTCRayN_org_y(rays, args->N, i), RTCRayN_org_z(rays, args->N, i)},
-                                  {RTCRayN_dir_x(rays, args->N, i), RTCRayN_dir_y(rays, args->N, i), RTCRayN_dir_z(rays, args->N, i)}};
+        reference::Ray<float> ray{
+            {RTCRayN_org_x(rays, args->N, i), RTCRayN_org_y(rays, args->N, i), RTCRayN_org_z(rays, args->N, i)},
+            {RTCRayN_dir_x(rays, args->N, i), RTCRayN_dir_y(rays, args->N, i), RTCRayN_dir_z(rays, args->N, i)}};
         float near = RTCRayN_tnear(rays, args->N, i);
         float& far = RTCRayN_tfar(rays, args->N, i);
         auto span = reference::span_of(shape, ray);
@@ -148,8 +152,10 @@ struct EmbreePeer::State {
     std::vector<sse::Ray> rays;  // row by row
 
     ~State() {
-        if (scene != nullptr) rtcReleaseScene(scene);
-        if (device != nullptr) rtcReleaseDevice(device);
+        if (scene != nullptr)
+            rtcReleaseScene(scene);
+        if (device != nullptr)
+            rtcReleaseDevice(device);
     }
 };
 
@@ -157,7 +163,8 @@ EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) : state_(std::make_
     State& s = *state_;
     s.device = rtcNewDevice(nullptr);
     if (s.device == nullptr) {
-        throw std::runtime_error("Embree: rtcNewDevice failed (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+        throw std::runtime_error("Embree: rtcNewDevice failed (error " + std::to_string(rtcGetDeviceError(nullptr)) +
+                                 ")");
     }
     s.scene = rtcNewScene(s.device);
     for (const scene::Object& object : scene.objects) {
@@ -235,8 +242,18 @@ FirstHitRun EmbreePeer::cast_single() const {
     auto start = std::chrono::steady_clock::now();
     for (const sse::Ray& ray : s.rays) {
         RTCRayHit rayhit{};
-        rayhit.ray = {ray.origin.x, ray.origin.y, ray.origin.z, 0.0f, ray.direction.x, ray.direction.y, ray.direction.z,
-                      0.0f, std::numeric_limits<float>::infinity(), ~0u, 0, 0};
+        rayhit.ray = {ray.origin.x,
+                      ray.origin.y,
+                      ray.origin.z,
+                      0.0f,
+                      ray.direction.x,
+                      ray.direction.y,
+                      ray.direction.z,
+                      0.0f,
+                      std::numeric_limits<float>::infinity(),
+                      ~0u,
+                      0,
+                      0};
         rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(s.scene, &context, &rayhit);
         run.hits += rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
@@ -259,7 +276,8 @@ FirstHitRun EmbreePeer::cast_packets() const {
             for (int lane = 0; lane < 4; ++lane) {
                 int px = x + (lane & 1), py = y + (lane >> 1);
                 valid[lane] = px < s.width && py < s.height ? -1 : 0;
-                const sse::Ray& ray = s.rays[static_cast<std::size_t>(valid[lane] != 0 ? py * s.width + px : y * s.width + x)];
+                const sse::Ray& ray =
+                    s.rays[static_cast<std::size_t>(valid[lane] != 0 ? py * s.width + px : y * s.width + x)];
                 packet.ray.org_x[lane] = ray.origin.x;
                 packet.ray.org_y[lane] = ray.origin.y;
                 packet.ray.org_z[lane] = ray.origin.z;

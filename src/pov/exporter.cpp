@@ -25,9 +25,13 @@ std::string triple(double x, double y, double z) {
 }
 
 // A point or direction of our right-handed world in POV-Ray's left-handed one: z is negated.
-std::string point(const Vec3& v) { return triple(v[0], v[1], -v[2]); }
+std::string point(const Vec3& v) {
+    return triple(v[0], v[1], -v[2]);
+}
 
-std::string colour(const Vec3& c) { return triple(c[0], c[1], c[2]); }
+std::string colour(const Vec3& c) {
+    return triple(c[0], c[1], c[2]);
+}
 
 const char* csg_keyword(scene::CsgOp op) {
     switch (op) {
@@ -73,23 +77,26 @@ PovMaterial map_material(const scene::Material& m) {
         // k = t would need f = 1, which hides the surface's own ambient and diffuse entirely; keeping
         // them costs the weight of internally reflected rays instead (1 where ours is t).
         p.transmit = t;
-        p.residual = "reflection 0 with 0 < transmission < 1: POV-Ray weighs total internal reflection by 1, ours by transmission";
+        p.residual =
+            "reflection 0 with 0 < transmission < 1: POV-Ray weighs total internal reflection by 1, ours by "
+            "transmission";
     }
     if (p.transmit < 1) {
         p.own_scale = 1 / (1 - p.transmit);
     } else {
         p.own_scale = 0;
         if (has_own_terms) {
-            p.residual = "transmission >= 1 with reflection 0: POV-Ray cannot show this surface's ambient and diffuse terms";
+            p.residual =
+                "transmission >= 1 with reflection 0: POV-Ray cannot show this surface's ambient and diffuse terms";
         }
     }
     return p;
 }
 
 enum class Pass {
-    shaded,          // what the camera, reflected and refracted rays see
-    shadow_caster,   // an invisible copy that casts the shadows, when the shaded copy's transmit is not ours
-    object_ids,      // every primitive flat-coloured by its id
+    shaded,         // what the camera, reflected and refracted rays see
+    shadow_caster,  // an invisible copy that casts the shadows, when the shaded copy's transmit is not ours
+    object_ids,     // every primitive flat-coloured by its id
 };
 
 // How one top-level object's primitives share POV-Ray's `interior`.
@@ -135,14 +142,17 @@ private:
 
     void header(int width, int height) {
         const scene::Camera& camera = scene_.camera;
-        line(0, object_ids_ ? "// twinray object-id pass for POV-Ray 3.7: each primitive flat-coloured by its id (docs/povray.md)."
-                            : "// twinray scene exported for POV-Ray 3.7 (docs/povray.md).");
-        line(0, "// Render: povray +I<this file> +O<out>.png +W" + std::to_string(width) + " +H" + std::to_string(height) +
-                    " -D -A +FN8 File_Gamma=1.0");
+        line(0,
+             object_ids_
+                 ? "// twinray object-id pass for POV-Ray 3.7: each primitive flat-coloured by its id (docs/povray.md)."
+                 : "// twinray scene exported for POV-Ray 3.7 (docs/povray.md).");
+        line(0, "// Render: povray +I<this file> +O<out>.png +W" + std::to_string(width) + " +H" +
+                    std::to_string(height) + " -D -A +FN8 File_Gamma=1.0");
         line(0, "// Right-handed world with y up converted to POV-Ray's left-handed one by negating every z.");
         std::vector<bool> used(materials_.size(), false);
         for (const scene::Object& object : scene_.objects) {
-            for_each_leaf(object, [&](const scene::Object& leaf) { used.at(static_cast<std::size_t>(leaf.material)) = true; });
+            for_each_leaf(object,
+                          [&](const scene::Object& leaf) { used.at(static_cast<std::size_t>(leaf.material)) = true; });
         }
         for (std::size_t i = 0; i < materials_.size() && !object_ids_; ++i) {
             if (used[i] && !materials_[i].residual.empty()) {
@@ -226,7 +236,9 @@ private:
         if (plan_.shared) {
             modifiers.push_back("interior { ior " + number(plan_.ior) + " }");
         } else if (plan_.transparent) {
-            modifiers.push_back("// transparent primitives with different ior or k keep their own interiors: not exact (docs/povray.md)");
+            modifiers.push_back(
+                "// transparent primitives with different ior or k keep their own interiors: not exact "
+                "(docs/povray.md)");
         }
         if (plan_.needs_shadow_caster) {
             modifiers.push_back("no_shadow  // the copy below casts this object's shadows");
@@ -239,7 +251,8 @@ private:
     }
 
     // `modifiers` close the object's block (POV-Ray wants object modifiers after a CSG's children).
-    void write_object(const scene::Object& object, int indent, Pass pass, const std::vector<std::string>& modifiers = {}) {
+    void write_object(const scene::Object& object, int indent, Pass pass,
+                      const std::vector<std::string>& modifiers = {}) {
         std::visit(
             [&](const auto& shape) {
                 using S = std::decay_t<decltype(shape)>;
@@ -270,7 +283,9 @@ private:
 
     // POV-Ray's plane {n, d} is n·p = d with the inside n·p < d, as ours.
     static std::string geometry(const scene::Plane& plane) { return point(plane.normal) + ", " + number(plane.offset); }
-    static std::string geometry(const scene::Sphere& sphere) { return point(sphere.center) + ", " + number(sphere.radius); }
+    static std::string geometry(const scene::Sphere& sphere) {
+        return point(sphere.center) + ", " + number(sphere.radius);
+    }
     static std::string geometry(const scene::Cylinder& cylinder) {
         return point(cylinder.base) + ", " + point(cylinder.cap) + ", " + number(cylinder.radius);
     }

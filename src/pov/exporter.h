@@ -22,6 +22,8 @@ std::string export_pov(const scene::Scene& scene, int width, int height);
 std::string export_pov_object_ids(const scene::Scene& scene, int width, int height);
 
 // The id a pixel of export_pov_object_ids's render encodes, from its 8-bit red and green.
-inline int decode_object_id(int red, int green) { return red + 256 * green; }
+inline int decode_object_id(int red, int green) {
+    return red + 256 * green;
+}
 
 }  // namespace twinray::pov

@@ -2,12 +2,12 @@
 
 #include "compare/image_compare.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <sstream>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace twinray::pov {
 namespace {
@@ -43,8 +43,8 @@ std::optional<fs::path> find_povray() {
     return std::nullopt;
 }
 
-Image render_with_povray(const fs::path& povray, const fs::path& folder, const std::string& name, const std::string& pov_text,
-                         int width, int height, int threads) {
+Image render_with_povray(const fs::path& povray, const fs::path& folder, const std::string& name,
+                         const std::string& pov_text, int width, int height, int threads) {
     fs::path scene = folder / (name + ".pov");
     fs::path image = folder / (name + ".png");
     fs::path log = folder / (name + ".log");
@@ -53,8 +53,8 @@ Image render_with_povray(const fs::path& povray, const fs::path& folder, const s
     std::ofstream(ini).flush();
     std::string command = "cd " + quoted(folder) + " && POVINI=" + quoted(ini) + " " + quoted(povray) + " +I" +
                           quoted(scene) + " +O" + quoted(image) + " +W" + std::to_string(width) + " +H" +
-                          std::to_string(height) + " -D -A -UA +FN8 File_Gamma=1.0 +WT" + std::to_string(threads) + " -GS -GR -GD > " + quoted(log) +
-                          " 2>&1";
+                          std::to_string(height) + " -D -A -UA +FN8 File_Gamma=1.0 +WT" + std::to_string(threads) +
+                          " -GS -GR -GD > " + quoted(log) + " 2>&1";
     int status = std::system(command.c_str());
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::exists(image)) {
         throw PovrayError("povray failed on " + scene.string() + " (status " + std::to_string(status) + "); its log " +

@@ -23,7 +23,7 @@ std::optional<std::filesystem::path> find_povray();
 // (-A), 8-bit PNG without gamma (+FN8 File_Gamma=1.0), `threads` threads (+WTn), quiet but keeping warnings
 // and errors (-GS -GR -GD), an empty povray.ini (POVINI), every message in NAME.log. Throws
 // PovrayError with the log's end when POV-Ray fails.
-Image render_with_povray(const std::filesystem::path& povray, const std::filesystem::path& folder, const std::string& name,
-                         const std::string& pov_text, int width, int height, int threads = 1);
+Image render_with_povray(const std::filesystem::path& povray, const std::filesystem::path& folder,
+                         const std::string& name, const std::string& pov_text, int width, int height, int threads = 1);
 
 }  // namespace twinray::pov

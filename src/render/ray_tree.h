@@ -31,7 +31,7 @@ inline const char* ray_kind_name(RayKind kind) {
 
 // One light as seen from a hit point.
 struct LightVisibility {
-    double n_dot_l = 0;        // N·L with L the unit vector to the light; ≤ 0: faces away, no shadow ray
+    double n_dot_l = 0;  // N·L with L the unit vector to the light; ≤ 0: faces away, no shadow ray
     bool faces_away = true;
     double transmittance = 0;  // of the shadow ray: 1 unobstructed, 0 blocked (0 when facing away)
     Vec3d shadow_origin{};     // the shadow ray, when traced
@@ -52,8 +52,8 @@ struct RayNode {
     Vec3d normal{};  // unit, facing the ray
     bool entering = false;
     std::vector<LightVisibility> lights;  // one per scene light, in file order (empty on a miss)
-    Vec3d local{};  // ambient + lights; the background on a miss
-    Vec3d total{};  // what the ray sees: local + transmission·refracted + reflection·reflected
+    Vec3d local{};                        // ambient + lights; the background on a miss
+    Vec3d total{};                        // what the ray sees: local + transmission·refracted + reflection·reflected
 };
 
 // Depth-first (pre-order): a node comes before its children, children in the order they are traced.
@@ -115,7 +115,9 @@ struct Divergence {
 
 namespace ray_tree_detail {
 
-inline double max_abs(const Vec3d& v) { return std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])}); }
+inline double max_abs(const Vec3d& v) {
+    return std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
+}
 
 inline double max_abs_difference(const Vec3d& a, const Vec3d& b) {
     return std::max({std::fabs(a[0] - b[0]), std::fabs(a[1] - b[1]), std::fabs(a[2] - b[2])});
@@ -129,7 +131,8 @@ inline double angle_between(const Vec3d& a, const Vec3d& b) {
 
 class Comparison {
 public:
-    Comparison(const RayTree& a, const RayTree& b, const DivergenceThresholds& limits) : a_(a), b_(b), limits_(limits) {}
+    Comparison(const RayTree& a, const RayTree& b, const DivergenceThresholds& limits)
+        : a_(a), b_(b), limits_(limits) {}
 
     // Depth-first, in the order the rays were traced: a node's own ray, hit and lights, then its
     // children, then its total colour (which sums the children). A node whose hit differs in kind
@@ -155,7 +158,8 @@ public:
             if (p.entering != q.entering) {
                 found_.push_back({i, j, "entering", 0, 0});
             }
-            double cosine = std::fabs(p.normal[0] * p.direction[0] + p.normal[1] * p.direction[1] + p.normal[2] * p.direction[2]);
+            double cosine =
+                std::fabs(p.normal[0] * p.direction[0] + p.normal[1] * p.direction[1] + p.normal[2] * p.direction[2]);
             note(i, j, "t", relative(std::fabs(p.t - q.t) * cosine, scale), limits_.position);
             note(i, j, "normal", angle_between(p.normal, q.normal), limits_.angle);
             for (std::size_t l = 0; l < std::min(p.lights.size(), q.lights.size()); ++l) {

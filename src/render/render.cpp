@@ -20,8 +20,7 @@ int resolve_thread_count(int requested) {
 // The calling thread is one of the workers (one thread fewer to start, which matters for renders of a
 // few milliseconds), and it alone reports progress, between its items.
 std::uint64_t parallel_for(int count, int threads, const std::function<std::uint64_t(int item)>& work,
-                           const std::function<void(double fraction_done)>& progress,
-                           const std::atomic<bool>* cancel) {
+                           const std::function<void(double fraction_done)>& progress, const std::atomic<bool>* cancel) {
     std::atomic<int> next_item{0};
     std::atomic<int> items_done{0};
     std::atomic<std::uint64_t> total{0};
@@ -39,7 +38,8 @@ std::uint64_t parallel_for(int count, int threads, const std::function<std::uint
                 }
                 sum += work(item);
                 ++items_done;
-                if (reports_progress && progress && std::chrono::steady_clock::now() - last_report > std::chrono::milliseconds(100)) {
+                if (reports_progress && progress &&
+                    std::chrono::steady_clock::now() - last_report > std::chrono::milliseconds(100)) {
                     last_report = std::chrono::steady_clock::now();
                     progress(static_cast<double>(items_done) / count);
                 }

@@ -40,36 +40,32 @@ struct Refusal {
     std::string problem;
 };
 
-std::string key_path(const std::string& parent, std::string_view key)
-{
+std::string key_path(const std::string& parent, std::string_view key) {
     return parent.empty() ? std::string(key) : parent + "." + std::string(key);
 }
 
-std::string index_path(const std::string& parent, std::size_t index)
-{
+std::string index_path(const std::string& parent, std::size_t index) {
     return parent + "[" + std::to_string(index) + "]";
 }
 
-[[noreturn]] void refuse(const std::string& path, std::string problem)
-{
+[[noreturn]] void refuse(const std::string& path, std::string problem) {
     throw Refusal{path.empty() ? "(root)" : path, std::move(problem)};
 }
 
-std::string in_quotes(std::string_view text) { return Json(text).dump(); }
+std::string in_quotes(std::string_view text) {
+    return Json(text).dump();
+}
 
-std::string format_number(double value)
-{
+std::string format_number(double value) {
     char digits[32];  // the shortest round-trip form of any double fits in 24
     return std::string(digits, std::to_chars(std::begin(digits), std::end(digits), value).ptr);
 }
 
-std::string format_vec3(const Vec3& v)
-{
+std::string format_vec3(const Vec3& v) {
     return "[" + format_number(v[0]) + ", " + format_number(v[1]) + ", " + format_number(v[2]) + "]";
 }
 
-std::string join(const std::vector<std::string_view>& words)
-{
+std::string join(const std::vector<std::string_view>& words) {
     std::string text;
     for (const std::string_view word : words) {
         text += (text.empty() ? "" : ", ") + std::string(word);
@@ -77,14 +73,12 @@ std::string join(const std::vector<std::string_view>& words)
     return text;
 }
 
-std::string element_count(std::size_t count)
-{
+std::string element_count(std::size_t count) {
     return std::to_string(count) + (count == 1 ? " element" : " elements");
 }
 
 // Scalars as written; containers only by their shape, since printing them could be huge.
-std::string describe(const Json& value)
-{
+std::string describe(const Json& value) {
     if (value.is_object()) {
         return "an object";
     }
@@ -97,8 +91,7 @@ std::string describe(const Json& value)
 // ---------------------------------------------------------------------------------------------------
 // First pass: syntax, duplicate keys, nesting depth.
 
-std::string line_and_column(std::string_view text, std::size_t bytes_read)
-{
+std::string line_and_column(std::string_view text, std::size_t bytes_read) {
     // The parser counts the character it stopped at as read; at the end of the input that is one past
     // the last byte. Columns count bytes, not characters.
     const std::size_t offset = std::min(bytes_read == 0 ? 0 : bytes_read - 1, text.size());
@@ -110,8 +103,7 @@ std::string line_and_column(std::string_view text, std::size_t bytes_read)
 }
 
 // The parser quotes the bytes it stopped at, which may not be UTF-8; a message must stay printable.
-std::string ascii_only(std::string_view text)
-{
+std::string ascii_only(std::string_view text) {
     static constexpr char hex[] = "0123456789ABCDEF";
     std::string result;
     for (const char c : text) {
@@ -122,24 +114,23 @@ std::string ascii_only(std::string_view text)
 }
 
 // What follows the first `marker` in `text`, or all of `text` if there is none.
-std::string_view after(std::string_view text, std::string_view marker)
-{
+std::string_view after(std::string_view text, std::string_view marker) {
     const std::size_t found = text.find(marker);
     return found == std::string_view::npos ? text : text.substr(found + marker.size());
 }
 
 // "[json.exception.parse_error.101] parse error at line 1, column 5: syntax error ..." keeps only
 // "syntax error ...": the position is reported separately, computed from the byte offset.
-std::string plain_parser_message(const Json::exception& error)
-{
+std::string plain_parser_message(const Json::exception& error) {
     std::string_view message = after(error.what(), "] ");
     if (message.starts_with("parse error")) {
         message = after(message, ": ");
     }
     // The parser's one refusal that is not a syntax error (406): a number beyond the range of double.
-    const std::string allowed = error.id == 406 ? "; numbers must be finite, at most " +
-                                                      format_number(std::numeric_limits<double>::max()) + " in magnitude"
-                                                : "";
+    const std::string allowed =
+        error.id == 406
+            ? "; numbers must be finite, at most " + format_number(std::numeric_limits<double>::max()) + " in magnitude"
+            : "";
     return ascii_only(message) + allowed;
 }
 
@@ -159,8 +150,7 @@ public:
     bool end_object() override { return close(); }
     bool end_array() override { return close(); }
 
-    bool key(string_t& name) override
-    {
+    bool key(string_t& name) override {
         Level& object = levels_.back();
         object.key = name;
         if (!object.keys.insert(name).second) {
@@ -169,8 +159,7 @@ public:
         return true;
     }
 
-    bool parse_error(std::size_t bytes_read, const std::string&, const Json::exception& error) override
-    {
+    bool parse_error(std::size_t bytes_read, const std::string&, const Json::exception& error) override {
         throw Refusal{line_and_column(text_, bytes_read), plain_parser_message(error)};
     }
 
@@ -182,16 +171,14 @@ private:
         std::size_t elements = 0;
     };
 
-    bool value()
-    {
+    bool value() {
         if (!levels_.empty() && !levels_.back().is_object) {
             ++levels_.back().elements;
         }
         return true;
     }
 
-    bool open(bool is_object)
-    {
+    bool open(bool is_object) {
         value();
         if (levels_.size() == max_json_depth) {
             refuse(path(), "nested deeper than " + std::to_string(max_json_depth) +
@@ -201,15 +188,13 @@ private:
         return true;
     }
 
-    bool close()
-    {
+    bool close() {
         levels_.pop_back();
         return true;
     }
 
     // The path of the value being read (the last key or element of each open level).
-    std::string path() const
-    {
+    std::string path() const {
         std::string result;
         for (const Level& level : levels_) {
             result = level.is_object ? key_path(result, level.key) : index_path(result, level.elements - 1);
@@ -221,8 +206,7 @@ private:
     std::vector<Level> levels_;
 };
 
-Json parse_json(std::string_view text)
-{
+Json parse_json(std::string_view text) {
     SyntaxScan scan(text);
     // Every stop of the scan throws a Refusal, so the result carries no news.
     static_cast<void>(Json::sax_parse(text.begin(), text.end(), &scan));
@@ -244,16 +228,14 @@ struct Schema {
     std::vector<std::string_view> required;
     std::vector<std::string_view> optional;
 
-    std::vector<std::string_view> allowed() const
-    {
+    std::vector<std::string_view> allowed() const {
         std::vector<std::string_view> keys = required;
         keys.insert(keys.end(), optional.begin(), optional.end());
         return keys;
     }
 };
 
-void require_object(const Node& node)
-{
+void require_object(const Node& node) {
     if (!node.json.is_object()) {
         refuse(node.path, "expected an object, got " + describe(node.json));
     }
@@ -261,8 +243,7 @@ void require_object(const Node& node)
 
 // Unknown keys are refused because they are usually typos; missing required keys are refused here so
 // that readers can take every required key as present.
-void require_keys_of(const Node& object, const Schema& schema)
-{
+void require_keys_of(const Node& object, const Schema& schema) {
     require_object(object);
     const std::vector<std::string_view> allowed = schema.allowed();
     for (const auto& [key, value] : object.json.items()) {
@@ -279,8 +260,7 @@ void require_keys_of(const Node& object, const Schema& schema)
     }
 }
 
-std::optional<Node> find_key(const Node& object, std::string_view key)
-{
+std::optional<Node> find_key(const Node& object, std::string_view key) {
     const auto found = object.json.find(key);
     if (found == object.json.end()) {
         return std::nullopt;
@@ -289,17 +269,17 @@ std::optional<Node> find_key(const Node& object, std::string_view key)
 }
 
 // For keys that require_keys_of has already proven present.
-Node at(const Node& object, std::string_view key) { return Node{object.json.at(key), key_path(object.path, key)}; }
+Node at(const Node& object, std::string_view key) {
+    return Node{object.json.at(key), key_path(object.path, key)};
+}
 
 template <class T, class Read>
-T read_or(const Node& object, std::string_view key, T fallback, Read read)
-{
+T read_or(const Node& object, std::string_view key, T fallback, Read read) {
     const std::optional<Node> field = find_key(object, key);
     return field ? read(*field) : fallback;
 }
 
-std::vector<Node> require_array(const Node& node, std::string_view expected)
-{
+std::vector<Node> require_array(const Node& node, std::string_view expected) {
     if (!node.json.is_array()) {
         refuse(node.path, "expected " + std::string(expected) + ", got " + describe(node.json));
     }
@@ -310,8 +290,7 @@ std::vector<Node> require_array(const Node& node, std::string_view expected)
     return elements;
 }
 
-const std::string& require_string(const Node& node)
-{
+const std::string& require_string(const Node& node) {
     if (!node.json.is_string()) {
         refuse(node.path, "expected a string, got " + describe(node.json));
     }
@@ -319,8 +298,7 @@ const std::string& require_string(const Node& node)
 }
 
 // Finite by construction: JSON cannot spell NaN or infinity, and the parser refuses overflow (1e999).
-double require_number(const Node& node)
-{
+double require_number(const Node& node) {
     if (!node.json.is_number()) {
         refuse(node.path, "expected a number, got " + describe(node.json));
     }
@@ -335,8 +313,7 @@ struct Range {
 
     bool contains(double value) const { return (low_inclusive ? value >= low : value > low) && value < high; }
 
-    std::string describe() const
-    {
+    std::string describe() const {
         const std::string lower = (low_inclusive ? ">= " : "> ") + format_number(low);
         return std::isinf(high) ? lower : lower + " and < " + format_number(high);
     }
@@ -346,8 +323,7 @@ constexpr Range non_negative{0, true};
 constexpr Range positive{0, false};
 constexpr Range field_of_view{0, false, 180};
 
-double require_number_in(const Node& node, const Range& range)
-{
+double require_number_in(const Node& node, const Range& range) {
     const double value = require_number(node);
     if (!range.contains(value)) {
         refuse(node.path, "must be " + range.describe() + ", got " + describe(node.json));
@@ -355,14 +331,12 @@ double require_number_in(const Node& node, const Range& range)
     return value;
 }
 
-auto number_in(Range range)
-{
+auto number_in(Range range) {
     return [range](const Node& node) { return require_number_in(node, range); };
 }
 
 // Written 5 or 5.0 alike; 2.5 is refused with the same message as an out-of-range value.
-auto integer_in(int low, int high)
-{
+auto integer_in(int low, int high) {
     return [low, high](const Node& node) {
         const double value = require_number(node);
         if (!(std::floor(value) == value && value >= low && value <= high)) {
@@ -373,8 +347,7 @@ auto integer_in(int low, int high)
     };
 }
 
-Vec3 require_triple(const Node& node, const std::function<double(const Node&)>& read_component)
-{
+Vec3 require_triple(const Node& node, const std::function<double(const Node&)>& read_component) {
     const std::vector<Node> elements = require_array(node, "an array of 3 numbers");
     if (elements.size() != 3) {
         refuse(node.path, "expected an array of 3 numbers, got " + element_count(elements.size()));
@@ -382,46 +355,56 @@ Vec3 require_triple(const Node& node, const std::function<double(const Node&)>& 
     return {read_component(elements[0]), read_component(elements[1]), read_component(elements[2])};
 }
 
-Vec3 require_vec3(const Node& node) { return require_triple(node, require_number); }
+Vec3 require_vec3(const Node& node) {
+    return require_triple(node, require_number);
+}
 
-Vec3 require_color(const Node& node) { return require_triple(node, number_in(non_negative)); }
+Vec3 require_color(const Node& node) {
+    return require_triple(node, number_in(non_negative));
+}
 
 // ---------------------------------------------------------------------------------------------------
 // Vector arithmetic needed by the geometric rules.
 
-Vec3 minus(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 minus(const Vec3& a, const Vec3& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
 
-Vec3 cross(const Vec3& a, const Vec3& b)
-{
+Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
-double length(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+double length(const Vec3& v) {
+    return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
 
-bool is_zero(const Vec3& v) { return v == Vec3{0, 0, 0}; }
+bool is_zero(const Vec3& v) {
+    return v == Vec3{0, 0, 0};
+}
 
-bool is_finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+bool is_finite(const Vec3& v) {
+    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
 
 // For a finite non-zero v. Dividing by the largest component first keeps the squared length from
 // overflowing (1e200) or underflowing (1e-200).
-Vec3 normalized(const Vec3& v)
-{
+Vec3 normalized(const Vec3& v) {
     const double largest = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
     const Vec3 scaled{v[0] / largest, v[1] / largest, v[2] / largest};
     const double scaled_length = length(scaled);
     return {scaled[0] / scaled_length, scaled[1] / scaled_length, scaled[2] / scaled_length};
 }
 
-double sine_of_angle(const Vec3& a, const Vec3& b)
-{
+double sine_of_angle(const Vec3& a, const Vec3& b) {
     return is_zero(a) || is_zero(b) ? 0 : length(cross(normalized(a), normalized(b)));
 }
 
 // ---------------------------------------------------------------------------------------------------
 // The blocks of a scene.
 
-const Schema scene_schema{
-    "a scene", {"camera", "objects"}, {"format", "image", "background", "ambient_light", "max_depth", "materials", "lights"}};
+const Schema scene_schema{"a scene",
+                          {"camera", "objects"},
+                          {"format", "image", "background", "ambient_light", "max_depth", "materials", "lights"}};
 const Schema image_schema{"image", {}, {"width", "height"}};
 const Schema camera_schema{"the camera", {"eye", "look_at"}, {"up", "fov_deg"}};
 const Schema material_schema{
@@ -430,30 +413,27 @@ const Schema light_schema{"a light", {"position"}, {"color"}};
 
 constexpr std::string_view format_name = "twinray-scene/1";
 
-void require_format(const Node& node)
-{
+void require_format(const Node& node) {
     if (require_string(node) != format_name) {
         refuse(node.path, "must be " + in_quotes(format_name) + ", got " + describe(node.json));
     }
 }
 
-void require_distinct(const Node& second, const Vec3& second_point, std::string_view first_name, const Vec3& first_point)
-{
+void require_distinct(const Node& second, const Vec3& second_point, std::string_view first_name,
+                      const Vec3& first_point) {
     if (second_point == first_point) {
         refuse(second.path, "must differ from " + std::string(first_name) + ", both are " + format_vec3(first_point));
     }
 }
 
-void read_image(const Node& node, Scene& scene)
-{
+void read_image(const Node& node, Scene& scene) {
     require_keys_of(node, image_schema);
     scene.width = read_or(node, "width", scene.width, integer_in(1, max_image_side));
     scene.height = read_or(node, "height", scene.height, integer_in(1, max_image_side));
 }
 
 // look_at - eye, which the up rule needs; coordinates so far apart that it overflows are refused.
-Vec3 view_direction(const Node& look_at, const Camera& camera)
-{
+Vec3 view_direction(const Node& look_at, const Camera& camera) {
     require_distinct(look_at, camera.look_at, "eye", camera.eye);
     const Vec3 forward = minus(camera.look_at, camera.eye);
     if (!is_finite(forward)) {
@@ -462,20 +442,17 @@ Vec3 view_direction(const Node& look_at, const Camera& camera)
     return forward;
 }
 
-void require_up_not_parallel(const Node& camera_node, const Vec3& up, const Vec3& forward)
-{
+void require_up_not_parallel(const Node& camera_node, const Vec3& up, const Vec3& forward) {
     const double sine = sine_of_angle(forward, up);
     if (!(sine >= min_up_sine)) {
         const std::string which_up = camera_node.json.contains("up") ? "up " : "the default up ";
-        refuse(key_path(camera_node.path, "up"),
-               which_up + format_vec3(up) + " is parallel to the view direction " + format_vec3(forward) +
-                   "; the sine of their angle must be >= " + format_number(min_up_sine) + ", got " +
-                   format_number(sine));
+        refuse(key_path(camera_node.path, "up"), which_up + format_vec3(up) + " is parallel to the view direction " +
+                                                     format_vec3(forward) + "; the sine of their angle must be >= " +
+                                                     format_number(min_up_sine) + ", got " + format_number(sine));
     }
 }
 
-Camera read_camera(const Node& node)
-{
+Camera read_camera(const Node& node) {
     require_keys_of(node, camera_schema);
     Camera camera;
     camera.eye = require_vec3(at(node, "eye"));
@@ -488,8 +465,7 @@ Camera read_camera(const Node& node)
     return camera;
 }
 
-Material read_material(const Node& node)
-{
+Material read_material(const Node& node) {
     require_keys_of(node, material_schema);
     Material material;
     material.color = read_or(node, "color", material.color, require_color);
@@ -503,8 +479,7 @@ Material read_material(const Node& node)
     return material;
 }
 
-void read_materials(const Node& node, Scene& scene)
-{
+void read_materials(const Node& node, Scene& scene) {
     require_object(node);
     for (const auto& [name, value] : node.json.items()) {
         scene.materials.push_back(read_material(Node{value, key_path(node.path, name)}));
@@ -512,8 +487,7 @@ void read_materials(const Node& node, Scene& scene)
     }
 }
 
-Light read_light(const Node& node)
-{
+Light read_light(const Node& node) {
     require_keys_of(node, light_schema);
     Light light;
     light.position = require_vec3(at(node, "position"));
@@ -521,8 +495,7 @@ Light read_light(const Node& node)
     return light;
 }
 
-std::vector<Light> read_lights(const Node& node)
-{
+std::vector<Light> read_lights(const Node& node) {
     std::vector<Light> lights;
     for (const Node& element : require_array(node, "an array of lights")) {
         lights.push_back(read_light(element));
@@ -533,8 +506,7 @@ std::vector<Light> read_lights(const Node& node)
 // ---------------------------------------------------------------------------------------------------
 // Objects.
 
-Shape read_plane(const Node& node)
-{
+Shape read_plane(const Node& node) {
     const Node normal = at(node, "normal");
     const Vec3 n = require_vec3(normal);
     if (is_zero(n)) {
@@ -543,13 +515,11 @@ Shape read_plane(const Node& node)
     return Plane{normalized(n), require_number(at(node, "offset"))};
 }
 
-Shape read_sphere(const Node& node)
-{
+Shape read_sphere(const Node& node) {
     return Sphere{require_vec3(at(node, "center")), require_number_in(at(node, "radius"), positive)};
 }
 
-Shape read_cylinder(const Node& node)
-{
+Shape read_cylinder(const Node& node) {
     const Vec3 base = require_vec3(at(node, "base"));
     const Node cap = at(node, "cap");
     const Vec3 cap_point = require_vec3(cap);
@@ -557,8 +527,7 @@ Shape read_cylinder(const Node& node)
     return Cylinder{base, cap_point, require_number_in(at(node, "radius"), positive)};
 }
 
-Shape read_box(const Node& node)
-{
+Shape read_box(const Node& node) {
     const Vec3 min = require_vec3(at(node, "min"));
     const Node max = at(node, "max");
     const Vec3 max_corner = require_vec3(max);
@@ -578,8 +547,7 @@ struct ObjectKind {
     std::variant<Shape (*)(const Node&), CsgOp> shape;  // how a primitive is read, or which CSG node
 };
 
-Schema object_schema(std::string_view noun, std::vector<std::string_view> own_keys)
-{
+Schema object_schema(std::string_view noun, std::vector<std::string_view> own_keys) {
     own_keys.insert(own_keys.begin(), "type");
     return Schema{noun, std::move(own_keys), {"material"}};
 }
@@ -594,8 +562,7 @@ const ObjectKind object_kinds[] = {
     {"difference", object_schema("a difference", {"children"}), CsgOp::difference},
 };
 
-std::string object_types()
-{
+std::string object_types() {
     std::vector<std::string_view> types;
     for (const ObjectKind& kind : object_kinds) {
         types.push_back(kind.type);
@@ -603,8 +570,7 @@ std::string object_types()
     return join(types);
 }
 
-const ObjectKind& require_object_kind(const Node& object)
-{
+const ObjectKind& require_object_kind(const Node& object) {
     require_object(object);
     const std::optional<Node> type = find_key(object, "type");
     if (!type) {
@@ -620,14 +586,14 @@ const ObjectKind& require_object_kind(const Node& object)
 }
 
 // Index 0, the built-in default, has no name a scene can use.
-int require_material_name(const Node& node, const Scene& scene)
-{
+int require_material_name(const Node& node, const Scene& scene) {
     const std::string& name = require_string(node);
     const auto found = std::find(scene.material_names.begin() + 1, scene.material_names.end(), name);
     if (found == scene.material_names.end()) {
         const std::vector<std::string_view> defined(scene.material_names.begin() + 1, scene.material_names.end());
-        refuse(node.path, "unknown material " + in_quotes(name) + "; " +
-                              (defined.empty() ? "the scene defines no materials" : "materials defined: " + join(defined)));
+        refuse(node.path,
+               "unknown material " + in_quotes(name) + "; " +
+                   (defined.empty() ? "the scene defines no materials" : "materials defined: " + join(defined)));
     }
     return static_cast<int>(found - scene.material_names.begin());
 }
@@ -636,8 +602,7 @@ int require_material_name(const Node& node, const Scene& scene)
 // ancestor naming one, else the default.
 Object read_object(const Node& node, Scene& scene, int level, int inherited_material);
 
-Csg read_csg(const Node& node, CsgOp op, Scene& scene, int level, int material)
-{
+Csg read_csg(const Node& node, CsgOp op, Scene& scene, int level, int material) {
     const Node children = at(node, "children");
     const std::vector<Node> elements = require_array(children, "an array of objects");
     if (elements.size() < 2) {
@@ -650,8 +615,7 @@ Csg read_csg(const Node& node, CsgOp op, Scene& scene, int level, int material)
     return csg;
 }
 
-Object read_object(const Node& node, Scene& scene, int level, int inherited_material)
-{
+Object read_object(const Node& node, Scene& scene, int level, int inherited_material) {
     if (level > max_object_nesting) {
         refuse(node.path, "objects nested deeper than " + std::to_string(max_object_nesting) +
                               " levels; a top-level object is level 1 and each CSG child one level deeper");
@@ -670,22 +634,21 @@ Object read_object(const Node& node, Scene& scene, int level, int inherited_mate
     return Object{std::move(shape), material, leaf};
 }
 
-void read_objects(const Node& node, Scene& scene)
-{
+void read_objects(const Node& node, Scene& scene) {
     for (const Node& element : require_array(node, "an array of objects")) {
         const std::size_t leaves_before = scene.leaf_paths.size();
         scene.objects.push_back(read_object(element, scene, 1, 0));
         const std::size_t leaves = scene.leaf_paths.size() - leaves_before;
         if (leaves > static_cast<std::size_t>(max_csg_leaves)) {
-            refuse(element.path, "a CSG object may hold at most " + std::to_string(max_csg_leaves) +
-                                     " primitives (the SSE tracer keeps its span lists in fixed-size arrays), this one holds " +
-                                     std::to_string(leaves) + "; split it into several objects");
+            refuse(element.path,
+                   "a CSG object may hold at most " + std::to_string(max_csg_leaves) +
+                       " primitives (the SSE tracer keeps its span lists in fixed-size arrays), this one holds " +
+                       std::to_string(leaves) + "; split it into several objects");
         }
     }
 }
 
-Scene read_scene(const Node& root)
-{
+Scene read_scene(const Node& root) {
     require_keys_of(root, scene_schema);
     Scene scene;
     if (const std::optional<Node> format = find_key(root, "format")) {
@@ -706,12 +669,13 @@ Scene read_scene(const Node& root)
     return scene;
 }
 
-std::string error_message(const std::string& file, const std::string& location, const std::string& problem)
-{
+std::string error_message(const std::string& file, const std::string& location, const std::string& problem) {
     return location.empty() ? file + ": " + problem : file + ": " + location + ": " + problem;
 }
 
-std::string system_error_text() { return std::error_code(errno, std::generic_category()).message(); }
+std::string system_error_text() {
+    return std::error_code(errno, std::generic_category()).message();
+}
 
 struct CloseFile {
     void operator()(std::FILE* stream) const { std::fclose(stream); }
@@ -723,12 +687,9 @@ SceneError::SceneError(std::string file, std::string location, std::string probl
     : std::runtime_error(error_message(file, location, problem)),
       file_(std::move(file)),
       location_(std::move(location)),
-      problem_(std::move(problem))
-{
-}
+      problem_(std::move(problem)) {}
 
-Scene parse_scene(std::string_view json_text, const std::string& source_name)
-{
+Scene parse_scene(std::string_view json_text, const std::string& source_name) {
     try {
         const Json document = parse_json(json_text);
         return read_scene(Node{document, ""});
@@ -737,8 +698,7 @@ Scene parse_scene(std::string_view json_text, const std::string& source_name)
     }
 }
 
-Scene load_scene(const std::filesystem::path& file)
-{
+Scene load_scene(const std::filesystem::path& file) {
     const std::unique_ptr<std::FILE, CloseFile> stream(std::fopen(file.c_str(), "rb"));
     if (!stream) {
         throw SceneError(file.string(), "", "cannot open file: " + system_error_text());

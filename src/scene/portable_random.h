@@ -17,7 +17,9 @@ public:
         return z ^ (z >> 31);
     }
     // Uniform in [low, high).
-    double uniform(double low, double high) { return low + (high - low) * static_cast<double>(next() >> 11) * 0x1.0p-53; }
+    double uniform(double low, double high) {
+        return low + (high - low) * static_cast<double>(next() >> 11) * 0x1.0p-53;
+    }
 
 private:
     std::uint64_t state_;

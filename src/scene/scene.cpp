@@ -11,16 +11,14 @@ namespace {
 
 // Walks the tree rather than leaf_materials, so that it also answers for scenes built in code.
 template <class Predicate>
-bool any_leaf(const std::vector<Object>& objects, const Predicate& predicate)
-{
+bool any_leaf(const std::vector<Object>& objects, const Predicate& predicate) {
     return std::any_of(objects.begin(), objects.end(), [&predicate](const Object& object) {
         const Csg* csg = std::get_if<Csg>(&object.shape);
         return csg ? any_leaf(csg->children, predicate) : predicate(object);
     });
 }
 
-int checked_side(const char* name, long long side)
-{
+int checked_side(const char* name, long long side) {
     if (side < 1 || side > max_image_side) {
         throw std::invalid_argument("image " + std::string(name) + " must be from 1 to " +
                                     std::to_string(max_image_side) + ", got " + std::to_string(side));
@@ -30,32 +28,27 @@ int checked_side(const char* name, long long side)
 
 // The side that keeps the scene's aspect ratio, given the other one. Exact in double: every operand is
 // at most max_image_side, so only the final division rounds, and halves round away from zero.
-int side_keeping_aspect(const char* name, int given, int scene_side, int scene_given_side)
-{
+int side_keeping_aspect(const char* name, int given, int scene_side, int scene_given_side) {
     const double side = static_cast<double>(given) * scene_side / scene_given_side;
     return checked_side(name, std::max(1LL, std::llround(side)));
 }
 
 }  // namespace
 
-bool Scene::has_csg() const
-{
+bool Scene::has_csg() const {
     return std::any_of(objects.begin(), objects.end(),
                        [](const Object& object) { return std::holds_alternative<Csg>(object.shape); });
 }
 
-bool Scene::has_transparency() const
-{
+bool Scene::has_transparency() const {
     return any_leaf(objects, [this](const Object& leaf) { return materials[leaf.material].transmission > 0; });
 }
 
-bool Scene::has_reflection() const
-{
+bool Scene::has_reflection() const {
     return any_leaf(objects, [this](const Object& leaf) { return materials[leaf.material].reflection > 0; });
 }
 
-ImageSize resolve_image_size(const Scene& scene, int requested_width, int requested_height)
-{
+ImageSize resolve_image_size(const Scene& scene, int requested_width, int requested_height) {
     if (requested_width == 0 && requested_height == 0) {
         return {scene.width, scene.height};
     }

@@ -17,7 +17,9 @@ struct BoundingSphere {
 BoundingSphere bounding_sphere(const scene::Plane&) {
     return {{0, 0, 0}, std::numeric_limits<double>::infinity()};
 }
-BoundingSphere bounding_sphere(const scene::Sphere& sphere) { return {sphere.center, sphere.radius}; }
+BoundingSphere bounding_sphere(const scene::Sphere& sphere) {
+    return {sphere.center, sphere.radius};
+}
 BoundingSphere bounding_sphere(const scene::Cylinder& cylinder) {
     BoundingSphere out{};
     double half_length_squared = 0;
@@ -39,14 +41,17 @@ BoundingSphere bounding_sphere(const scene::Box& box) {
     return out;
 }
 
-vfloat4 lanes_of(double value) { return vfloat4(static_cast<float>(value)); }
+vfloat4 lanes_of(double value) {
+    return vfloat4(static_cast<float>(value));
+}
 
 PlaneF convert(const scene::Plane& plane) {
     return {{lanes_of(plane.normal[0]), lanes_of(plane.normal[1]), lanes_of(plane.normal[2])}, lanes_of(plane.offset)};
 }
 SphereF convert(const scene::Sphere& sphere) {
     float radius = static_cast<float>(sphere.radius);
-    return {{lanes_of(sphere.center[0]), lanes_of(sphere.center[1]), lanes_of(sphere.center[2])}, vfloat4(radius * radius)};
+    return {{lanes_of(sphere.center[0]), lanes_of(sphere.center[1]), lanes_of(sphere.center[2])},
+            vfloat4(radius * radius)};
 }
 // Axis and height are derived in float from the float end points, as the reference<float> does.
 CylinderF convert(const scene::Cylinder& cylinder) {
@@ -58,7 +63,9 @@ CylinderF convert(const scene::Cylinder& cylinder) {
     // never loses a hit.
     BoundingSphere bound = bounding_sphere(cylinder);
     const scene::Vec3& middle = bound.center;
-    double widened = bound.radius + 1e-4 * (bound.radius + std::max({std::fabs(middle[0]), std::fabs(middle[1]), std::fabs(middle[2])}));
+    double widened =
+        bound.radius +
+        1e-4 * (bound.radius + std::max({std::fabs(middle[0]), std::fabs(middle[1]), std::fabs(middle[2])}));
     return {{vfloat4(base.x), vfloat4(base.y), vfloat4(base.z)},
             {vfloat4(axis.x), vfloat4(axis.y), vfloat4(axis.z)},
             vfloat4(length(along)),
@@ -180,10 +187,14 @@ void append_primitive(PrimitiveLists& lists, const scene::Object& object, std::i
     std::visit(
         [&](const auto& shape) {
             using S = std::decay_t<decltype(shape)>;
-            if constexpr (std::is_same_v<S, scene::Plane>) append(lists.planes, shape, id, transmission);
-            else if constexpr (std::is_same_v<S, scene::Sphere>) append(lists.spheres, shape, id, transmission);
-            else if constexpr (std::is_same_v<S, scene::Cylinder>) append(lists.cylinders, shape, id, transmission);
-            else if constexpr (std::is_same_v<S, scene::Box>) append(lists.boxes, shape, id, transmission);
+            if constexpr (std::is_same_v<S, scene::Plane>)
+                append(lists.planes, shape, id, transmission);
+            else if constexpr (std::is_same_v<S, scene::Sphere>)
+                append(lists.spheres, shape, id, transmission);
+            else if constexpr (std::is_same_v<S, scene::Cylinder>)
+                append(lists.cylinders, shape, id, transmission);
+            else if constexpr (std::is_same_v<S, scene::Box>)
+                append(lists.boxes, shape, id, transmission);
         },
         object.shape);
 }

@@ -45,7 +45,9 @@ struct SpanArray {
     }
 };
 
-inline Crossing far_end(float sign) { return {sign * std::numeric_limits<float>::infinity(), -1, 0}; }
+inline Crossing far_end(float sign) {
+    return {sign * std::numeric_limits<float>::infinity(), -1, 0};
+}
 
 inline void complement(const SpanArray& spans, SpanArray& gaps) {
     auto turned = [](Crossing crossing) {
@@ -117,11 +119,18 @@ void sweep(const SpanArray& a, const SpanArray& b, Inside inside, SpanArray& out
 
 inline void csg_combine(scene::CsgOp op, const SpanArray& a, const SpanArray& b, SpanArray& scratch, SpanArray& out) {
     switch (op) {
-        case scene::CsgOp::union_: sweep(a, b, [](bool x, bool y) { return x || y; }, out); break;
-        case scene::CsgOp::intersection: sweep(a, b, [](bool x, bool y) { return x && y; }, out); break;
+        case scene::CsgOp::union_:
+            sweep(
+                a, b, [](bool x, bool y) { return x || y; }, out);
+            break;
+        case scene::CsgOp::intersection:
+            sweep(
+                a, b, [](bool x, bool y) { return x && y; }, out);
+            break;
         case scene::CsgOp::difference:
             complement(b, scratch);
-            sweep(a, scratch, [](bool x, bool y) { return x && y; }, out);
+            sweep(
+                a, scratch, [](bool x, bool y) { return x && y; }, out);
             break;
     }
 }

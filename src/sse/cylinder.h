@@ -11,7 +11,7 @@ struct CylinderF {
     vfloat4 axis[3];  // unit, base towards cap
     vfloat4 height;   // |cap − base|
     vfloat4 radius_squared;
-    vfloat4 bound_center[3];         // a sphere around the cylinder, widened beyond float rounding
+    vfloat4 bound_center[3];  // a sphere around the cylinder, widened beyond float rounding
     vfloat4 bound_radius_squared;
 };
 
@@ -59,7 +59,8 @@ TWINRAY_KERNEL Span4 spans(const CylinderF& cylinder, const RayPacket& rays) {
         vfloat4 b = dot3<P>(f_perp, d_perp);
         discriminant = b * b - a * c;
     } else {
-        vfloat4 moment[3] = {f_perp[1] * d_perp[2] - f_perp[2] * d_perp[1], f_perp[2] * d_perp[0] - f_perp[0] * d_perp[2],
+        vfloat4 moment[3] = {f_perp[1] * d_perp[2] - f_perp[2] * d_perp[1],
+                             f_perp[2] * d_perp[0] - f_perp[0] * d_perp[2],
                              f_perp[0] * d_perp[1] - f_perp[1] * d_perp[0]};
         discriminant = a * r2 - dot3<P>(moment, moment);
     }
@@ -67,8 +68,8 @@ TWINRAY_KERNEL Span4 spans(const CylinderF& cylinder, const RayPacket& rays) {
     vfloat4 height = cylinder.height;
     vbool4 along_axis = a == zero;
     vbool4 side_valid = select_mask(along_axis, c < zero, discriminant >= zero);
-    vbool4 slab_valid = (axial_direction > zero) | (axial_direction < zero) |
-                        ((axial_origin > zero) & (axial_origin < height));
+    vbool4 slab_valid =
+        (axial_direction > zero) | (axial_direction < zero) | ((axial_origin > zero) & (axial_origin < height));
     span.valid = side_valid & slab_valid;
     if (none(span.valid)) {
         return span;

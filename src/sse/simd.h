@@ -38,19 +38,39 @@ struct vint4 {
     vint4() : m(_mm_setzero_si128()) {}
     explicit vint4(__m128i v) : m(v) {}
     explicit vint4(std::int32_t s) : m(_mm_set1_epi32(s)) {}
-    static vint4 load(const std::int32_t* aligned) { return vint4(_mm_load_si128(reinterpret_cast<const __m128i*>(aligned))); }
+    static vint4 load(const std::int32_t* aligned) {
+        return vint4(_mm_load_si128(reinterpret_cast<const __m128i*>(aligned)));
+    }
     void store(std::int32_t* aligned) const { _mm_store_si128(reinterpret_cast<__m128i*>(aligned), m); }
 };
 
-inline vfloat4 operator+(vfloat4 a, vfloat4 b) { return vfloat4(_mm_add_ps(a.m, b.m)); }
-inline vfloat4 operator-(vfloat4 a, vfloat4 b) { return vfloat4(_mm_sub_ps(a.m, b.m)); }
-inline vfloat4 operator*(vfloat4 a, vfloat4 b) { return vfloat4(_mm_mul_ps(a.m, b.m)); }
-inline vfloat4 operator/(vfloat4 a, vfloat4 b) { return vfloat4(_mm_div_ps(a.m, b.m)); }
-inline vfloat4 operator-(vfloat4 a) { return vfloat4(_mm_xor_ps(a.m, _mm_set1_ps(-0.0f))); }
-inline vfloat4 min(vfloat4 a, vfloat4 b) { return vfloat4(_mm_min_ps(a.m, b.m)); }
-inline vfloat4 max(vfloat4 a, vfloat4 b) { return vfloat4(_mm_max_ps(a.m, b.m)); }
-inline vfloat4 sqrt(vfloat4 a) { return vfloat4(_mm_sqrt_ps(a.m)); }
-inline vfloat4 abs(vfloat4 a) { return vfloat4(_mm_andnot_ps(_mm_set1_ps(-0.0f), a.m)); }
+inline vfloat4 operator+(vfloat4 a, vfloat4 b) {
+    return vfloat4(_mm_add_ps(a.m, b.m));
+}
+inline vfloat4 operator-(vfloat4 a, vfloat4 b) {
+    return vfloat4(_mm_sub_ps(a.m, b.m));
+}
+inline vfloat4 operator*(vfloat4 a, vfloat4 b) {
+    return vfloat4(_mm_mul_ps(a.m, b.m));
+}
+inline vfloat4 operator/(vfloat4 a, vfloat4 b) {
+    return vfloat4(_mm_div_ps(a.m, b.m));
+}
+inline vfloat4 operator-(vfloat4 a) {
+    return vfloat4(_mm_xor_ps(a.m, _mm_set1_ps(-0.0f)));
+}
+inline vfloat4 min(vfloat4 a, vfloat4 b) {
+    return vfloat4(_mm_min_ps(a.m, b.m));
+}
+inline vfloat4 max(vfloat4 a, vfloat4 b) {
+    return vfloat4(_mm_max_ps(a.m, b.m));
+}
+inline vfloat4 sqrt(vfloat4 a) {
+    return vfloat4(_mm_sqrt_ps(a.m));
+}
+inline vfloat4 abs(vfloat4 a) {
+    return vfloat4(_mm_andnot_ps(_mm_set1_ps(-0.0f), a.m));
+}
 // The magnitude of a with the sign of b.
 inline vfloat4 copysign(vfloat4 a, vfloat4 b) {
     __m128 sign = _mm_set1_ps(-0.0f);
@@ -58,29 +78,67 @@ inline vfloat4 copysign(vfloat4 a, vfloat4 b) {
 }
 
 // Comparisons are ordered: a lane holding NaN compares false, so NaN never counts as a hit.
-inline vbool4 operator<(vfloat4 a, vfloat4 b) { return {_mm_cmplt_ps(a.m, b.m)}; }
-inline vbool4 operator<=(vfloat4 a, vfloat4 b) { return {_mm_cmple_ps(a.m, b.m)}; }
-inline vbool4 operator>(vfloat4 a, vfloat4 b) { return {_mm_cmpgt_ps(a.m, b.m)}; }
-inline vbool4 operator>=(vfloat4 a, vfloat4 b) { return {_mm_cmpge_ps(a.m, b.m)}; }
-inline vbool4 operator==(vfloat4 a, vfloat4 b) { return {_mm_cmpeq_ps(a.m, b.m)}; }
-inline vbool4 operator&(vbool4 a, vbool4 b) { return {_mm_and_ps(a.m, b.m)}; }
-inline vbool4 operator|(vbool4 a, vbool4 b) { return {_mm_or_ps(a.m, b.m)}; }
-inline vbool4 operator!(vbool4 a) { return {_mm_xor_ps(a.m, _mm_castsi128_ps(_mm_set1_epi32(-1)))}; }
-inline vbool4 operator==(vint4 a, vint4 b) { return {_mm_castsi128_ps(_mm_cmpeq_epi32(a.m, b.m))}; }
-inline vbool4 operator<(vint4 a, vint4 b) { return {_mm_castsi128_ps(_mm_cmplt_epi32(a.m, b.m))}; }
-inline vint4 operator|(vint4 a, vint4 b) { return vint4(_mm_or_si128(a.m, b.m)); }
-inline vint4 operator&(vint4 a, vint4 b) { return vint4(_mm_and_si128(a.m, b.m)); }
+inline vbool4 operator<(vfloat4 a, vfloat4 b) {
+    return {_mm_cmplt_ps(a.m, b.m)};
+}
+inline vbool4 operator<=(vfloat4 a, vfloat4 b) {
+    return {_mm_cmple_ps(a.m, b.m)};
+}
+inline vbool4 operator>(vfloat4 a, vfloat4 b) {
+    return {_mm_cmpgt_ps(a.m, b.m)};
+}
+inline vbool4 operator>=(vfloat4 a, vfloat4 b) {
+    return {_mm_cmpge_ps(a.m, b.m)};
+}
+inline vbool4 operator==(vfloat4 a, vfloat4 b) {
+    return {_mm_cmpeq_ps(a.m, b.m)};
+}
+inline vbool4 operator&(vbool4 a, vbool4 b) {
+    return {_mm_and_ps(a.m, b.m)};
+}
+inline vbool4 operator|(vbool4 a, vbool4 b) {
+    return {_mm_or_ps(a.m, b.m)};
+}
+inline vbool4 operator!(vbool4 a) {
+    return {_mm_xor_ps(a.m, _mm_castsi128_ps(_mm_set1_epi32(-1)))};
+}
+inline vbool4 operator==(vint4 a, vint4 b) {
+    return {_mm_castsi128_ps(_mm_cmpeq_epi32(a.m, b.m))};
+}
+inline vbool4 operator<(vint4 a, vint4 b) {
+    return {_mm_castsi128_ps(_mm_cmplt_epi32(a.m, b.m))};
+}
+inline vint4 operator|(vint4 a, vint4 b) {
+    return vint4(_mm_or_si128(a.m, b.m));
+}
+inline vint4 operator&(vint4 a, vint4 b) {
+    return vint4(_mm_and_si128(a.m, b.m));
+}
 // All bits set in lanes where the mask is true: lets a mask be combined with integer flags.
-inline vint4 as_int(vbool4 a) { return vint4(_mm_castps_si128(a.m)); }
-inline vbool4 all_true() { return {_mm_castsi128_ps(_mm_set1_epi32(-1))}; }
+inline vint4 as_int(vbool4 a) {
+    return vint4(_mm_castps_si128(a.m));
+}
+inline vbool4 all_true() {
+    return {_mm_castsi128_ps(_mm_set1_epi32(-1))};
+}
 
-inline int movemask(vbool4 a) { return _mm_movemask_ps(a.m); }
-inline bool any(vbool4 a) { return movemask(a) != 0; }
-inline bool none(vbool4 a) { return movemask(a) == 0; }
+inline int movemask(vbool4 a) {
+    return _mm_movemask_ps(a.m);
+}
+inline bool any(vbool4 a) {
+    return movemask(a) != 0;
+}
+inline bool none(vbool4 a) {
+    return movemask(a) == 0;
+}
 
 // Lane-wise `mask ? a : b` (SSE4.1 blendv).
-inline vfloat4 select(vbool4 mask, vfloat4 a, vfloat4 b) { return vfloat4(_mm_blendv_ps(b.m, a.m, mask.m)); }
-inline vbool4 select_mask(vbool4 mask, vbool4 a, vbool4 b) { return {_mm_blendv_ps(b.m, a.m, mask.m)}; }
+inline vfloat4 select(vbool4 mask, vfloat4 a, vfloat4 b) {
+    return vfloat4(_mm_blendv_ps(b.m, a.m, mask.m));
+}
+inline vbool4 select_mask(vbool4 mask, vbool4 a, vbool4 b) {
+    return {_mm_blendv_ps(b.m, a.m, mask.m)};
+}
 inline vint4 select(vbool4 mask, vint4 a, vint4 b) {
     return vint4(_mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(b.m), _mm_castsi128_ps(a.m), mask.m)));
 }

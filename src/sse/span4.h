@@ -16,9 +16,9 @@ constexpr float infinity = std::numeric_limits<float>::infinity();
 
 struct RayPacket {
     vfloat4 origin[3];
-    vfloat4 direction[3];  // unit length
+    vfloat4 direction[3];          // unit length
     vfloat4 inverse_direction[3];  // 1/d (reciprocal<P>); filled only for scenes that test boxes
-    vbool4 active;         // lanes that carry a ray; the others hold a copy of an active ray
+    vbool4 active;                 // lanes that carry a ray; the others hold a copy of an active ray
 
     // Lane i traces rays[i]; lanes where `active` is false repeat rays[first active lane].
     RayPacket(const Ray rays[4], vbool4 active_lanes) : active(active_lanes) {

@@ -35,30 +35,48 @@ struct Vec4 {
     vfloat4 operator[](int axis) const { return axis == 0 ? x : axis == 1 ? y : z; }
 };
 
-inline Vec4 operator+(const Vec4& a, const Vec4& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec4 operator-(const Vec4& a, const Vec4& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec4 operator*(vfloat4 s, const Vec4& a) { return {s * a.x, s * a.y, s * a.z}; }
-inline Vec4 operator*(const Vec4& a, const Vec4& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-inline Vec4 operator-(const Vec4& a) { return {-a.x, -a.y, -a.z}; }
+inline Vec4 operator+(const Vec4& a, const Vec4& b) {
+    return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+inline Vec4 operator-(const Vec4& a, const Vec4& b) {
+    return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline Vec4 operator*(vfloat4 s, const Vec4& a) {
+    return {s * a.x, s * a.y, s * a.z};
+}
+inline Vec4 operator*(const Vec4& a, const Vec4& b) {
+    return {a.x * b.x, a.y * b.y, a.z * b.z};
+}
+inline Vec4 operator-(const Vec4& a) {
+    return {-a.x, -a.y, -a.z};
+}
 template <typename P>
 inline vfloat4 dot(const Vec4& a, const Vec4& b) {
     const vfloat4 left[3] = {a.x, a.y, a.z}, right[3] = {b.x, b.y, b.z};
     return dot3<P>(left, right);
 }
 // Where only a sign is needed (spawn_origin's side of the surface), whatever the knobs.
-inline vfloat4 dot(const Vec4& a, const Vec4& b) { return dot<ExactKernels>(a, b); }
-inline Vec4 broadcast(Vec3 v) { return {vfloat4(v.x), vfloat4(v.y), vfloat4(v.z)}; }
+inline vfloat4 dot(const Vec4& a, const Vec4& b) {
+    return dot<ExactKernels>(a, b);
+}
+inline Vec4 broadcast(Vec3 v) {
+    return {vfloat4(v.x), vfloat4(v.y), vfloat4(v.z)};
+}
 inline Vec4 select(vbool4 mask, const Vec4& a, const Vec4& b) {
     return {select(mask, a.x, b.x), select(mask, a.y, b.y), select(mask, a.z, b.z)};
 }
 // 1/|a| by the knobs' inverse_sqrt; exact, as the scalar normalize: one IEEE division shared by the
 // three components.
 template <typename P>
-inline Vec4 normalize(const Vec4& a) { return inverse_sqrt<P>(dot<P>(a, a)) * a; }
+inline Vec4 normalize(const Vec4& a) {
+    return inverse_sqrt<P>(dot<P>(a, a)) * a;
+}
 
 using Color4 = Vec4;
 
-inline vfloat4 from_lanes(const float lanes[4]) { return vfloat4(_mm_setr_ps(lanes[0], lanes[1], lanes[2], lanes[3])); }
+inline vfloat4 from_lanes(const float lanes[4]) {
+    return vfloat4(_mm_setr_ps(lanes[0], lanes[1], lanes[2], lanes[3]));
+}
 
 // The nearest crossing so far, per lane (per ray).
 struct Nearest4 {
@@ -222,12 +240,14 @@ SurfaceAnchor surface_anchor(const LeafInfo& leaf, std::int32_t tag, Vec3 point)
     switch (leaf.kind) {
         case LeafKind::plane: {
             Vec3 projected = point + (leaf.offset - dot(leaf.direction, point)) * leaf.direction;
-            float own_rounding = rounding_bound(2) * max_abs_component(point) + rounding_bound(1) * std::fabs(leaf.offset);
+            float own_rounding =
+                rounding_bound(2) * max_abs_component(point) + rounding_bound(1) * std::fabs(leaf.offset);
             return {projected, 0.0f, own_rounding, rounding_bound(2) * std::fabs(leaf.offset), rounding_bound(15)};
         }
         case LeafKind::sphere: {
             float own_rounding = rounding_bound(5) * leaf.radius + rounding_bound(2) * max_abs_component(point);
-            return {leaf.position, turned * leaf.radius, own_rounding, rounding_bound(9) * leaf.radius, rounding_bound(4)};
+            return {leaf.position, turned * leaf.radius, own_rounding, rounding_bound(9) * leaf.radius,
+                    rounding_bound(4)};
         }
         case LeafKind::box: {
             int axis = face >> 1;
@@ -238,9 +258,11 @@ SurfaceAnchor surface_anchor(const LeafInfo& leaf, std::int32_t tag, Vec3 point)
         case LeafKind::cylinder: {
             float axial = dot(point - leaf.position, leaf.direction);
             float size_bound = rounding_bound(12) * (leaf.radius + leaf.height);
-            float own_rounding = rounding_bound(5) * (leaf.radius + leaf.height) + rounding_bound(2) * max_abs_component(point);
+            float own_rounding =
+                rounding_bound(5) * (leaf.radius + leaf.height) + rounding_bound(2) * max_abs_component(point);
             if (face == cylinder_side) {
-                return {leaf.position + axial * leaf.direction, turned * leaf.radius, own_rounding, size_bound, rounding_bound(4)};
+                return {leaf.position + axial * leaf.direction, turned * leaf.radius, own_rounding, size_bound,
+                        rounding_bound(4)};
             }
             float cap_axial = face == cylinder_top_cap ? leaf.height : 0.0f;
             return {point - (axial - cap_axial) * leaf.direction, 0.0f, own_rounding, size_bound, rounding_bound(4)};
@@ -279,7 +301,8 @@ inline Vec3d lane0(const Vec4& v) {
 }
 
 // The node of lane 0's ray, or -1 when lane 0 is not active (then nothing below it is recorded).
-[[gnu::cold]] int record_ray(RayTree& tree, RayKind kind, int depth, int parent, const RayPacket& rays, const Hit4& hit) {
+[[gnu::cold]] int record_ray(RayTree& tree, RayKind kind, int depth, int parent, const RayPacket& rays,
+                             const Hit4& hit) {
     if ((movemask(rays.active) & 1) == 0) {
         return -1;
     }
@@ -318,7 +341,8 @@ template <typename P>
 
 [[gnu::cold]] void record_light_facing_away(RayTree& tree, int node, vfloat4 lambert) {
     if (node >= 0) {
-        tree.nodes[static_cast<std::size_t>(node)].lights.push_back({static_cast<double>(lambert.lane(0)), true, 0, {}, {}});
+        tree.nodes[static_cast<std::size_t>(node)].lights.push_back(
+            {static_cast<double>(lambert.lane(0)), true, 0, {}, {}});
     }
 }
 
@@ -351,9 +375,8 @@ public:
             rays.template compute_inverse_direction<P>();
         }
         Nearest4 nearest;
-        for_each_span<P>(candidates, rays, [&](const Span4& span, std::int32_t leaf, float) {
-            keep_nearest(nearest, span, leaf);
-        });
+        for_each_span<P>(candidates, rays,
+                         [&](const Span4& span, std::int32_t leaf, float) { keep_nearest(nearest, span, leaf); });
         if (!scene_.csg_objects.empty()) {
             nearest_csg_crossings(rays, nearest);
         }
@@ -413,7 +436,8 @@ private:
                     if (!(crossing.t > 0.0f)) {
                         continue;
                     }
-                    if (crossing.leaf >= 0 && (crossing.t < t[lane] || (crossing.t == t[lane] && crossing.leaf < leaf[lane]))) {
+                    if (crossing.leaf >= 0 &&
+                        (crossing.t < t[lane] || (crossing.t == t[lane] && crossing.leaf < leaf[lane]))) {
                         t[lane] = crossing.t;
                         leaf[lane] = crossing.leaf;
                         tag[lane] = crossing.tag | (entering ? tag_entering : 0);
@@ -437,8 +461,10 @@ private:
         Vec4 direction{rays.direction[0], rays.direction[1], rays.direction[2]};
         hit.point = Vec4{rays.origin[0], rays.origin[1], rays.origin[2]} + hit.t * direction;
         hit.leaf = nearest.leaf;
-        hit.entering = {_mm_castsi128_ps(_mm_cmpeq_epi32((nearest.tag & vint4(tag_entering)).m, vint4(tag_entering).m))};
-        alignas(16) float point[3][4], normal[3][4], anchor[3][4], radius[4], own_rounding[4], size_bound[4], point_factor[4];
+        hit.entering = {
+            _mm_castsi128_ps(_mm_cmpeq_epi32((nearest.tag & vint4(tag_entering)).m, vint4(tag_entering).m))};
+        alignas(16) float point[3][4], normal[3][4], anchor[3][4], radius[4], own_rounding[4], size_bound[4],
+            point_factor[4];
         alignas(16) std::int32_t leaf[4], tag[4], curved[4];
         hit.point.x.store(point[0]);
         hit.point.y.store(point[1]);
@@ -499,15 +525,20 @@ private:
             }
             const LeafInfo& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
             const MaterialF& m = scene_.materials[static_cast<std::size_t>(info.material)];
-            const float fields[10] = {m.color.x,  m.color.y,  m.color.z,      m.ambient,      m.diffuse,
-                                      m.phong,    m.phong_size, m.reflection, m.transmission, m.ior};
+            const float fields[10] = {m.color.x, m.color.y,    m.color.z,    m.ambient,      m.diffuse,
+                                      m.phong,   m.phong_size, m.reflection, m.transmission, m.ior};
             for (int field = 0; field < 10; ++field) {
                 values[field][lane] = fields[field];
             }
         }
         return {{from_lanes(values[0]), from_lanes(values[1]), from_lanes(values[2])},
-                from_lanes(values[3]), from_lanes(values[4]), from_lanes(values[5]), from_lanes(values[6]),
-                from_lanes(values[7]), from_lanes(values[8]), from_lanes(values[9])};
+                from_lanes(values[3]),
+                from_lanes(values[4]),
+                from_lanes(values[5]),
+                from_lanes(values[6]),
+                from_lanes(values[7]),
+                from_lanes(values[8]),
+                from_lanes(values[9])};
     }
 
     // Per lane, the product of the transmission of every surface crossed strictly between origin and
@@ -545,7 +576,8 @@ private:
                 vbool4 enter_between, exit_between;
                 crossings_between(span, enter_between, exit_between);
                 vfloat4 surface(transmission);
-                transmittance = transmittance * select(enter_between, surface, one) * select(exit_between, surface, one);
+                transmittance =
+                    transmittance * select(enter_between, surface, one) * select(exit_between, surface, one);
             });
             open = open & (transmittance > zero);
         }
@@ -656,9 +688,9 @@ private:
             if (any(refracting)) {
                 vfloat4 cos_transmitted = sqrt(max(vfloat4(1.0f) - sin2_transmitted, zero));
                 Vec4 refracted = normalize<P>(eta * direction + (eta * cos_incident - cos_transmitted) * hit.normal);
-                color = color + select(refracting, m.transmission, zero) *
-                                    trace_secondary(hit, refracted, refracting, depth, ray_count, tree,
-                                                    RayKind::refracted, node);
+                color = color + select(refracting, m.transmission, zero) * trace_secondary(hit, refracted, refracting,
+                                                                                           depth, ray_count, tree,
+                                                                                           RayKind::refracted, node);
             }
         }
         vbool4 reflecting = reflection > zero;
@@ -737,13 +769,15 @@ public:
         std::array<Direction, 4> normals;
         Direction centre{0, 0, 0};  // inside the pyramid: orients each side plane's normal inward
         for (const Direction& c : corners) {
-            for (int axis = 0; axis < 3; ++axis) centre[axis] += c[axis];
+            for (int axis = 0; axis < 3; ++axis)
+                centre[axis] += c[axis];
         }
         for (int i = 0; i < 4; ++i) {
             normals[i] = cross(corners[i], corners[(i + 1) % 4]);
             double length = std::sqrt(dot(normals[i], normals[i]));
             double inward = dot(normals[i], centre) < 0 ? -1.0 : 1.0;
-            for (double& c : normals[i]) c *= inward / length;
+            for (double& c : normals[i])
+                c *= inward / length;
         }
         keep_visible(scene_.primitives.planes, normals, visible.planes);
         keep_visible(scene_.primitives.spheres, normals, visible.spheres);
@@ -952,7 +986,9 @@ Ray Tracer::primary_ray(int x, int y, int width, int height) const {
 // rendered into a buffer of its own and copied into the image row by row when done: consecutive tiles
 // run on different threads and share cache lines at their borders, which per-pixel writes would pass
 // back and forth between the cores.
-RenderResult render(const scene::Scene& scene, const RenderOptions& options) { return render(scene, options, {}); }
+RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
+    return render(scene, options, {});
+}
 
 RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
@@ -962,27 +998,28 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
         using P = decltype(kernels);
         PacketTracer<P> packets(tracer.compiled());
         CameraPacket camera(tracer.compiled(), size.width, size.height);
-        return for_each_tile(tracer.compiled(), size, options, precision.flush_denormals,
-                             [&](int x0, int y0, int x1, int y1, const PrimitiveLists& visible) {
-                                 std::uint64_t tile_rays = 0;
-                                 Rgb pixels[tile][tile];
-                                 for_each_packet(x0, y0, x1, y1, [&](int x, int y, vbool4 active) {
-                                     RayPacket packet = camera.template rays<P>(x, y, active);
-                                     Color4 color = packets.trace(packet, visible, 1, tile_rays);
-                                     alignas(16) float r[4], g[4], b[4];
-                                     color.x.store(r);
-                                     color.y.store(g);
-                                     color.z.store(b);
-                                     // Buffer rows and columns past the image's edge are written but never copied.
-                                     for (int lane = 0; lane < 4; ++lane) {
-                                         pixels[y - y0 + (lane >> 1)][x - x0 + (lane & 1)] = {r[lane], g[lane], b[lane]};
-                                     }
-                                 });
-                                 for (int y = y0; y < y1; ++y) {
-                                     std::copy(pixels[y - y0], pixels[y - y0] + (x1 - x0), &image.at(x0, y));
-                                 }
-                                 return tile_rays;
-                             });
+        return for_each_tile(
+            tracer.compiled(), size, options, precision.flush_denormals,
+            [&](int x0, int y0, int x1, int y1, const PrimitiveLists& visible) {
+                std::uint64_t tile_rays = 0;
+                Rgb pixels[tile][tile];
+                for_each_packet(x0, y0, x1, y1, [&](int x, int y, vbool4 active) {
+                    RayPacket packet = camera.template rays<P>(x, y, active);
+                    Color4 color = packets.trace(packet, visible, 1, tile_rays);
+                    alignas(16) float r[4], g[4], b[4];
+                    color.x.store(r);
+                    color.y.store(g);
+                    color.z.store(b);
+                    // Buffer rows and columns past the image's edge are written but never copied.
+                    for (int lane = 0; lane < 4; ++lane) {
+                        pixels[y - y0 + (lane >> 1)][x - x0 + (lane & 1)] = {r[lane], g[lane], b[lane]};
+                    }
+                });
+                for (int y = y0; y < y1; ++y) {
+                    std::copy(pixels[y - y0], pixels[y - y0] + (x1 - x0), &image.at(x0, y));
+                }
+                return tile_rays;
+            });
     });
     return {std::move(image), ray_count};
 }

@@ -27,9 +27,9 @@ struct Ray {
 
 struct Hit {
     float t = 0;
-    Vec3 point;      // re-projected onto the primitive's surface
-    Vec3 normal;     // unit, facing the ray
-    int leaf = -1;   // the primitive hit (Scene::leaf_paths)
+    Vec3 point;     // re-projected onto the primitive's surface
+    Vec3 normal;    // unit, facing the ray
+    int leaf = -1;  // the primitive hit (Scene::leaf_paths)
     bool entering = false;
     float spawn_offset = 0;  // how far off the surface secondary rays start
 };

@@ -29,13 +29,23 @@ struct Vec3 {
     Vec3& operator+=(Vec3 b) { return *this = *this + b; }
 };
 
-inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
+inline float dot(Vec3 a, Vec3 b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+inline Vec3 cross(Vec3 a, Vec3 b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline float length(Vec3 a) {
+    return std::sqrt(dot(a, a));
+}
 // One IEEE division shared by three numerators, then multiplies: one rounding more than dividing each
 // component (≤ 1 ulp), for a third of the divisions, which dominate the cost of shading.
-inline Vec3 normalize(Vec3 a) { return (1.0f / length(a)) * a; }
-inline float max_abs_component(Vec3 a) { return std::fmax(std::fabs(a.x), std::fmax(std::fabs(a.y), std::fabs(a.z))); }
+inline Vec3 normalize(Vec3 a) {
+    return (1.0f / length(a)) * a;
+}
+inline float max_abs_component(Vec3 a) {
+    return std::fmax(std::fabs(a.x), std::fmax(std::fabs(a.y), std::fabs(a.z)));
+}
 
 using Color = Vec3;
 

@@ -32,7 +32,9 @@ namespace fs = std::filesystem;
 // it the same refusal path runs.
 constexpr std::int64_t fuzz_pixel_limit = 512 * 512;
 
-void expect(bool holds, const char* what) { twinray::fuzz::expect(holds, "image_loader_fuzz", what); }
+void expect(bool holds, const char* what) {
+    twinray::fuzz::expect(holds, "image_loader_fuzz", what);
+}
 
 // OpenImageIO picks a reader by the file's extension and falls back to the others by content, as it
 // does for a user's file: the name follows the EXR magic number, else ".png" (our default output).
@@ -107,11 +109,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         expect(image.width() >= 1 && image.height() >= 1, "an accepted image has pixels");
         expect(std::int64_t{image.width()} * image.height() <= fuzz_pixel_limit,
                "an accepted image is within the pixel limit");
-        expect(image.pixels().size() == static_cast<std::size_t>(image.width()) * static_cast<std::size_t>(image.height()),
-               "an accepted image holds width x height pixels");
+        expect(
+            image.pixels().size() == static_cast<std::size_t>(image.width()) * static_cast<std::size_t>(image.height()),
+            "an accepted image holds width x height pixels");
     } catch (const twinray::compare::ImageReadError& refusal) {
-        expect(std::string(refusal.what()).find(path.string()) != std::string::npos,
-               "a refusal names the file");
+        expect(std::string(refusal.what()).find(path.string()) != std::string::npos, "a refusal names the file");
     }
     fs::remove(path);
     return 0;

@@ -21,10 +21,16 @@ namespace {
 
 using namespace twinray::scene;
 
-void expect(bool holds, const char* what) { twinray::fuzz::expect(holds, "scene_loader_fuzz", what); }
+void expect(bool holds, const char* what) {
+    twinray::fuzz::expect(holds, "scene_loader_fuzz", what);
+}
 
-bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
-bool non_negative(const Vec3& v) { return v[0] >= 0 && v[1] >= 0 && v[2] >= 0; }
+bool finite(const Vec3& v) {
+    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+bool non_negative(const Vec3& v) {
+    return v[0] >= 0 && v[1] >= 0 && v[2] >= 0;
+}
 
 // Returns the number of leaves below `object`; checks each leaf's numbering and material.
 int check_object(const Scene& scene, const Object& object, int depth, int& next_leaf) {
