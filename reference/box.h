@@ -15,6 +15,11 @@ struct BoxShape {
     int leaf = -1;
 };
 
+template <typename T>
+BoxShape<T> make_shape(const scene::Box& box, int leaf) {
+    return {Vec3<T>(box.min), Vec3<T>(box.max), leaf};
+}
+
 // Slabs (Kay–Kajiya): per axis the line is between the two face planes for t in [near, far]; the
 // box is the intersection of the three. The entering face is the axis of the largest near, the
 // leaving face the axis of the smallest far. A ray parallel to a slab is inside it everywhere or
@@ -66,7 +71,7 @@ SurfacePoint<T> surface_point(const BoxShape<T>& box, Vec3<T> point, Vec3<T> nor
         }
     }
     Vec3<T> projected{coordinates[0], coordinates[1], coordinates[2]};
-    return {projected, rounding_bound<T>(3) * max_abs_component(projected)};
+    return {projected, scene::surface_bounds_of_box<T>().spawn_offset.at(max_abs_component(projected))};
 }
 
 }  // namespace twinray::reference

@@ -18,6 +18,14 @@ struct CylinderShape {
     int leaf = -1;
 };
 
+// Axis and height are derived in the tracer's precision from its own end points.
+template <typename T>
+CylinderShape<T> make_shape(const scene::Cylinder& cylinder, int leaf) {
+    Vec3<T> base(cylinder.base);
+    Vec3<T> along = Vec3<T>(cylinder.cap) - base;
+    return {base, normalize(along), length(along), static_cast<T>(cylinder.radius), leaf};
+}
+
 namespace cylinder_detail {
 
 template <typename T>
@@ -111,8 +119,8 @@ template <typename T>
 SurfacePoint<T> surface_point(const CylinderShape<T>& cylinder, Vec3<T> point, Vec3<T> normal) {
     Vec3<T> from_base = point - cylinder.base;
     T axial = dot(from_base, cylinder.axis);
-    T own_rounding =
-        rounding_bound<T>(5) * (cylinder.radius + cylinder.height) + rounding_bound<T>(2) * max_abs_component(point);
+    math::SurfaceBounds<T> bounds = scene::surface_bounds_of_cylinder(cylinder.radius, cylinder.height);
+    T own_rounding = bounds.own_rounding.at(max_abs_component(point));
     Vec3<T> projected = point;
     if (std::fabs(dot(normal, cylinder.axis)) > T(0.5)) {
         T cap_axial = std::fabs(axial - cylinder.height) < std::fabs(axial) ? cylinder.height : T(0);
@@ -126,9 +134,7 @@ SurfacePoint<T> surface_point(const CylinderShape<T>& cylinder, Vec3<T> point, V
             projected = cylinder.base + axial * cylinder.axis + radius * normal;
         }
     }
-    T offset = rounding_bound<T>(12) * (cylinder.radius + cylinder.height) +
-               rounding_bound<T>(4) * max_abs_component(projected);
-    return {projected, offset};
+    return {projected, bounds.spawn_offset.at(max_abs_component(projected))};
 }
 
 }  // namespace twinray::reference

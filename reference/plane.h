@@ -16,6 +16,11 @@ struct PlaneShape {
     int leaf = -1;
 };
 
+template <typename T>
+PlaneShape<T> make_shape(const scene::Plane& plane, int leaf) {
+    return {Vec3<T>(plane.normal), static_cast<T>(plane.offset), leaf};
+}
+
 // n·(o + t·d) = d  =>  t = (d − n·o) / (n·d). A ray parallel to the plane is inside everywhere or
 // nowhere; one running exactly within the plane is not inside (the inside is open).
 template <typename T>
@@ -43,10 +48,10 @@ std::optional<Span<T>> span_of(const PlaneShape<T>& plane, const Ray<T>& ray) {
 template <typename T>
 SurfacePoint<T> surface_point(const PlaneShape<T>& plane, Vec3<T> point, Vec3<T> /*normal: the plane's own*/) {
     T height = plane.offset - dot(plane.normal, point);
-    T own_rounding = rounding_bound<T>(2) * max_abs_component(point) + rounding_bound<T>(1) * std::fabs(plane.offset);
+    math::SurfaceBounds<T> bounds = scene::surface_bounds_of_plane(plane.offset);
+    T own_rounding = bounds.own_rounding.at(max_abs_component(point));
     Vec3<T> projected = std::fabs(height) > own_rounding ? point + height * plane.normal : point;
-    T offset = rounding_bound<T>(15) * max_abs_component(projected) + rounding_bound<T>(2) * std::fabs(plane.offset);
-    return {projected, offset};
+    return {projected, bounds.spawn_offset.at(max_abs_component(projected))};
 }
 
 }  // namespace twinray::reference

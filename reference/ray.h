@@ -1,7 +1,9 @@
 // Rays, hits, and the spans a ray's line spends inside a solid (the currency of CSG).
 #pragma once
 
+#include "math/rounding.h"
 #include "reference/vec3.h"
+#include "scene/geometry.h"
 
 #include <cmath>
 #include <limits>
@@ -37,23 +39,10 @@ Vec3<T> radial_normal(Vec3<T> radial, Vec3<T> direction) {
     return radial == Vec3<T>{} ? -direction : normalize(radial);
 }
 
-// A ray is traced only if every component is finite and its direction of unit length (within 1e-3):
-// anything else (NaN, infinity, a zero or unnormalised direction) has no defined hit and is a miss.
+// Every component finite and the direction of unit length (math/rounding.h); any other ray is a miss.
 template <typename T>
 bool is_traceable(const Ray<T>& ray) {
-    const Vec3<T>& o = ray.origin;
-    const Vec3<T>& d = ray.direction;
-    bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) && std::isfinite(d.x) &&
-                  std::isfinite(d.y) && std::isfinite(d.z);
-    return finite && std::fabs(dot(d, d) - T(1)) <= T(1e-3);
-}
-
-// γ(n) = n·u/(1 − n·u), u = ε/2 the unit roundoff: a bound on the relative error of n rounded operations
-// (Higham, "Accuracy and Stability of Numerical Algorithms" §3.1; pbrt-v4 uses the same).
-template <typename T>
-constexpr T rounding_bound(int n) {
-    T u = std::numeric_limits<T>::epsilon() / T(2);
-    return T(n) * u / (T(1) - T(n) * u);
+    return math::is_traceable(ray.origin, ray.direction);
 }
 
 // A hit point moved onto the primitive's surface, and the distance off the surface a secondary ray must

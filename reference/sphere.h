@@ -16,6 +16,11 @@ struct SphereShape {
     int leaf = -1;
 };
 
+template <typename T>
+SphereShape<T> make_shape(const scene::Sphere& sphere, int leaf) {
+    return {Vec3<T>(sphere.center), static_cast<T>(sphere.radius), leaf};
+}
+
 // With f = o − c and unit d: t² + 2bt + c = 0, b = f·d, c = f·f − r².
 // The discriminant is taken as r² − |f − b·d|² instead of b² − c, which cancels catastrophically once
 // the sphere is far away relative to its radius (Haines et al., Ray Tracing Gems ch. 7). The roots use
@@ -51,11 +56,11 @@ template <typename T>
 SurfacePoint<T> surface_point(const SphereShape<T>& sphere, Vec3<T> point, Vec3<T> normal) {
     T distance = dot(normal, point - sphere.center);  // ±|p − c|: the normal lies along p − c
     T radius = distance < T(0) ? -sphere.radius : sphere.radius;
-    T own_rounding = rounding_bound<T>(5) * sphere.radius + rounding_bound<T>(2) * max_abs_component(point);
+    math::SurfaceBounds<T> bounds = scene::surface_bounds_of_sphere(sphere.radius);
+    T own_rounding = bounds.own_rounding.at(max_abs_component(point));
     Vec3<T> projected =
         std::fabs(std::fabs(distance) - sphere.radius) > own_rounding ? sphere.center + radius * normal : point;
-    T offset = rounding_bound<T>(9) * sphere.radius + rounding_bound<T>(4) * max_abs_component(projected);
-    return {projected, offset};
+    return {projected, bounds.spawn_offset.at(max_abs_component(projected))};
 }
 
 }  // namespace twinray::reference

@@ -14,18 +14,8 @@ template <typename T>
 Shape<T> compile(const scene::Object& object) {
     return std::visit(
         [&](const auto& shape) -> Shape<T> {
-            using S = std::decay_t<decltype(shape)>;
-            if constexpr (std::is_same_v<S, scene::Plane>) {
-                return PlaneShape<T>{Vec3<T>(shape.normal), static_cast<T>(shape.offset), object.leaf};
-            } else if constexpr (std::is_same_v<S, scene::Sphere>) {
-                return SphereShape<T>{Vec3<T>(shape.center), static_cast<T>(shape.radius), object.leaf};
-            } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
-                Vec3<T> base(shape.base);
-                Vec3<T> along = Vec3<T>(shape.cap) - base;
-                return CylinderShape<T>{base, normalize(along), length(along), static_cast<T>(shape.radius),
-                                        object.leaf};
-            } else if constexpr (std::is_same_v<S, scene::Box>) {
-                return BoxShape<T>{Vec3<T>(shape.min), Vec3<T>(shape.max), object.leaf};
+            if constexpr (scene::is_primitive<std::decay_t<decltype(shape)>>) {
+                return make_shape<T>(shape, object.leaf);
             } else {
                 CsgNode<T> node{shape.op, {}};
                 for (const scene::Object& child : shape.children) {
@@ -69,7 +59,7 @@ void collect_leaf_shapes(const Shape<T>& shape, std::vector<PrimitiveShape<T>>& 
         [&](const auto& s) {
             if constexpr (std::is_same_v<std::decay_t<decltype(s)>, CsgNode<T>>) {
                 for (const Shape<T>& child : s.children) {
-                    collect_leaf_shapes(child, leaves);
+                    collect_leaf_shapes<T>(child, leaves);
                 }
             } else {
                 leaves[static_cast<std::size_t>(s.leaf)] = s;
@@ -79,20 +69,10 @@ void collect_leaf_shapes(const Shape<T>& shape, std::vector<PrimitiveShape<T>>& 
 }
 
 template <typename T>
-MaterialT<T> convert(const scene::Material& m) {
+Material<T> convert(const scene::Material& m) {
     auto s = [](double v) { return static_cast<T>(v); };
     return {Color<T>(m.color), s(m.ambient),    s(m.diffuse),      s(m.phong),
             s(m.phong_size),   s(m.reflection), s(m.transmission), s(m.ior)};
-}
-
-template <typename T>
-CameraT<T> make_camera(const scene::Camera& camera) {
-    Vec3<T> eye(camera.eye);
-    Vec3<T> forward = normalize(Vec3<T>(camera.look_at) - eye);
-    Vec3<T> right = normalize(cross(forward, Vec3<T>(camera.up)));
-    Vec3<T> up = cross(right, forward);
-    T half_width = static_cast<T>(std::tan(camera.fov_deg * std::numbers::pi / 360.0));
-    return {eye, forward, right, up, half_width};
 }
 
 // Mirror direction of d about n.
@@ -114,74 +94,27 @@ std::optional<Vec3<T>> refract(Vec3<T> d, Vec3<T> n, T eta) {
     return normalize(eta * d + (eta * cos_incident - cos_transmitted) * n);
 }
 
-// Recording the ray tree (twinray probe). Each helper does nothing without a tree, so tracing without
-// one costs a null test per call.
-template <typename T>
-Vec3d to_vec3d(Vec3<T> v) {
-    return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
-}
-
+// The ray tree (twinray probe) records a ray before it is shaded; without a tree, one null test.
 template <typename T>
 int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const Ray<T>& ray,
                const std::optional<Hit<T>>& hit) {
     if (tree == nullptr) [[likely]] {
         return -1;
     }
-    int index = tree->add(kind, depth, parent, to_vec3d(ray.origin), to_vec3d(ray.direction));
-    RayNode& node = tree->nodes[static_cast<std::size_t>(index)];
+    int index = tree->add(kind, depth, parent, recorded(ray.origin), recorded(ray.direction));
     if (hit) {
-        node.hit = true;
-        node.leaf = hit->leaf;
-        node.t = static_cast<double>(hit->t);
-        node.point = to_vec3d(hit->point);
-        node.normal = to_vec3d(hit->normal);
-        node.entering = hit->entering;
+        tree->set_hit(index, hit->leaf, static_cast<double>(hit->t), recorded(hit->point), recorded(hit->normal),
+                      hit->entering);
     }
     return index;
-}
-
-// A light the surface faces away from (N·L ≤ 0): no shadow ray.
-template <typename T>
-void record_light(RayTree* tree, int node, T lambert) {
-    if (tree != nullptr) [[unlikely]] {
-        tree->nodes[static_cast<std::size_t>(node)].lights.push_back({static_cast<double>(lambert), true, 0, {}, {}});
-    }
-}
-
-// A light whose shadow ray, from `shadow_origin`, found `transmittance`.
-template <typename T>
-void record_light(RayTree* tree, int node, T lambert, Vec3<T> shadow_origin, Vec3<T> light_position, T transmittance) {
-    if (tree != nullptr) [[unlikely]] {
-        tree->nodes[static_cast<std::size_t>(node)].lights.push_back(
-            {static_cast<double>(lambert), false, static_cast<double>(transmittance), to_vec3d(shadow_origin),
-             to_vec3d(normalize(light_position - shadow_origin))});
-    }
-}
-
-template <typename T>
-void record_local_color(RayTree* tree, int node, Color<T> color) {
-    if (tree != nullptr) [[unlikely]] {
-        tree->nodes[static_cast<std::size_t>(node)].local = to_vec3d(color);
-    }
-}
-
-// On a miss the background is both the local and the total colour.
-template <typename T>
-void record_total_color(RayTree* tree, int node, Color<T> color) {
-    if (tree != nullptr) [[unlikely]] {
-        RayNode& n = tree->nodes[static_cast<std::size_t>(node)];
-        n.total = to_vec3d(color);
-        if (!n.hit) {
-            n.local = n.total;
-        }
-    }
 }
 
 }  // namespace
 
 template <typename T>
 Tracer<T>::Tracer(const scene::Scene& scene)
-    : camera_(make_camera<T>(scene.camera)),
+    : camera_(math::camera_basis(Vec3<T>(scene.camera.eye), Vec3<T>(scene.camera.look_at), Vec3<T>(scene.camera.up),
+                                 scene.camera.fov_deg, [](Vec3<T> v) { return normalize(v); })),
       background_(scene.background),
       ambient_light_(scene.ambient_light),
       max_depth_(scene.max_depth),
@@ -195,7 +128,7 @@ Tracer<T>::Tracer(const scene::Scene& scene)
     leaf_shapes_.resize(scene.leaf_paths.size());
     for (const scene::Object& object : scene.objects) {
         objects_.push_back(compile<T>(object));
-        collect_leaf_shapes(objects_.back(), leaf_shapes_);
+        collect_leaf_shapes<T>(objects_.back(), leaf_shapes_);
     }
 }
 
@@ -289,29 +222,36 @@ Color<T> Tracer<T>::trace_ray(const Ray<T>& ray, int depth, std::uint64_t& rays,
     std::optional<Hit<T>> hit = first_hit(ray);
     int node = record_ray(tree, kind, depth, parent, ray, hit);
     Color<T> color = hit ? shade(ray, *hit, depth, rays, tree, node) : background_;
-    record_total_color(tree, node, color);
+    if (tree != nullptr) [[unlikely]] {
+        tree->set_total_color(node, recorded(color));
+    }
     return color;
 }
 
 // I = ambient·C·ambient_light + Σ_lights shadow·(diffuse·C·Lc·(N·L) + phong·Lc·max(0, R·L)^phong_size)
-//   + reflection·I(reflected) + transmission·I(refracted)          (SCENES.md, "Shading")
+//   + reflection·I(reflected) + transmission·I(refracted)          (docs/scene-format.md, "Shading")
 template <typename T>
 Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays, RayTree* tree,
                           int node) const {
-    const MaterialT<T>& m = material_of(hit.leaf);
+    const Material<T>& m = material_of(hit.leaf);
     Color<T> color = m.ambient * (m.color * ambient_light_);
     Vec3<T> mirror = reflect(ray.direction, hit.normal);
-    for (const LightT<T>& light : lights_) {
+    for (const Light<T>& light : lights_) {
         Vec3<T> to_light = normalize(light.position - hit.point);
         T lambert = dot(hit.normal, to_light);
         if (!(lambert > T(0))) {
-            record_light(tree, node, lambert);
+            if (tree != nullptr) [[unlikely]] {
+                tree->add_light_facing_away(node, static_cast<double>(lambert));
+            }
             continue;
         }
         ++rays;
         Vec3<T> shadow_origin = spawn_origin(hit, to_light);
         T shadow = shadow_transmittance(shadow_origin, light.position);
-        record_light(tree, node, lambert, shadow_origin, light.position, shadow);
+        if (tree != nullptr) [[unlikely]] {
+            tree->add_light(node, static_cast<double>(lambert), static_cast<double>(shadow), recorded(shadow_origin),
+                            recorded(normalize(light.position - shadow_origin)));
+        }
         if (shadow == T(0)) {
             continue;
         }
@@ -319,7 +259,9 @@ Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::
         T highlight = m.phong > T(0) ? m.phong * std::pow(std::fmax(T(0), dot(mirror, to_light)), m.phong_size) : T(0);
         color += shadow * (diffuse + highlight * light.color);
     }
-    record_local_color(tree, node, color);
+    if (tree != nullptr) [[unlikely]] {
+        tree->set_local_color(node, recorded(color));
+    }
     if (depth >= max_depth_) {
         return color;
     }

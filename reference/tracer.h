@@ -8,25 +8,38 @@
 #include "reference/plane.h"
 #include "reference/ray.h"
 #include "reference/sphere.h"
+#include "math/camera.h"
 #include "render/ray_tree.h"
 #include "render/render.h"
 #include "scene/scene.h"
 
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <variant>
 #include <vector>
 
 namespace twinray::reference {
 
+// Each primitive's shape is what its make_shape returns (sphere.h, plane.h, ...): the variants follow the
+// one list of primitive types (scene::PrimitiveTypes).
+template <typename T>
+struct ShapeFor {
+    template <typename S>
+    using of = decltype(make_shape<T>(std::declval<const S&>(), 0));
+};
+
+template <typename T>
+using PrimitiveShapes = scene::PrimitiveTypes::map<ShapeFor<T>::template of>;
+
+template <typename T>
+using PrimitiveShape = typename PrimitiveShapes<T>::template apply<std::variant>;
+
 template <typename T>
 struct CsgNode;
 
 template <typename T>
-using Shape = std::variant<PlaneShape<T>, SphereShape<T>, CylinderShape<T>, BoxShape<T>, CsgNode<T>>;
-
-template <typename T>
-using PrimitiveShape = std::variant<PlaneShape<T>, SphereShape<T>, CylinderShape<T>, BoxShape<T>>;
+using Shape = typename PrimitiveShapes<T>::template append<CsgNode<T>>::template apply<std::variant>;
 
 template <typename T>
 struct CsgNode {
@@ -35,22 +48,15 @@ struct CsgNode {
 };
 
 template <typename T>
-struct MaterialT {
+struct Material {
     Color<T> color;
     T ambient, diffuse, phong, phong_size, reflection, transmission, ior;
 };
 
 template <typename T>
-struct LightT {
+struct Light {
     Vec3<T> position;
     Color<T> color;
-};
-
-// The camera of SCENES.md: horizontal field of view, image plane at distance 1.
-template <typename T>
-struct CameraT {
-    Vec3<T> eye, forward, right, up;
-    T half_width{};  // tan(fov/2)
 };
 
 template <typename T>
@@ -78,7 +84,7 @@ public:
     // Where a secondary ray leaving `hit` towards `direction` starts: hit.spawn_offset off the surface.
     static Vec3<T> spawn_origin(const Hit<T>& hit, Vec3<T> direction);
 
-    const MaterialT<T>& material_of(int leaf) const { return materials_[leaf_materials_[leaf]]; }
+    const Material<T>& material_of(int leaf) const { return materials_[leaf_materials_[leaf]]; }
 
 private:
     // intersect() without the check of the ray: every ray the tracer makes itself is traceable.
@@ -89,12 +95,12 @@ private:
     // `node`: this hit's ray in `tree`, if recording.
     Color<T> shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays, RayTree* tree, int node) const;
 
-    CameraT<T> camera_;
+    math::CameraBasis<T> camera_;
     Color<T> background_, ambient_light_;
     int max_depth_;
-    std::vector<MaterialT<T>> materials_;
+    std::vector<Material<T>> materials_;
     std::vector<int> leaf_materials_;
-    std::vector<LightT<T>> lights_;
+    std::vector<Light<T>> lights_;
     std::vector<Shape<T>> objects_;
     std::vector<PrimitiveShape<T>> leaf_shapes_;  // by leaf index: where hit points are re-projected
 };

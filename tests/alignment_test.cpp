@@ -40,11 +40,11 @@ namespace fs = std::filesystem;
 using namespace twinray::sse;
 
 // Every SSE record is a whole number of 16-byte groups, so each element of an aligned array is aligned.
-static_assert(alignof(PlaneF) == 16 && sizeof(PlaneF) % 16 == 0);
-static_assert(alignof(SphereF) == 16 && sizeof(SphereF) % 16 == 0);
-static_assert(alignof(CylinderF) == 16 && sizeof(CylinderF) % 16 == 0);
-static_assert(alignof(BoxF) == 16 && sizeof(BoxF) % 16 == 0);
-static_assert(alignof(CsgObject) >= 16, "CsgObject holds a BoxF bound");
+static_assert(alignof(PlaneShape) == 16 && sizeof(PlaneShape) % 16 == 0);
+static_assert(alignof(SphereShape) == 16 && sizeof(SphereShape) % 16 == 0);
+static_assert(alignof(CylinderShape) == 16 && sizeof(CylinderShape) % 16 == 0);
+static_assert(alignof(BoxShape) == 16 && sizeof(BoxShape) % 16 == 0);
+static_assert(alignof(CsgObject) >= 16, "CsgObject holds a BoxShape bound");
 
 // MOVAPS from `address`, whatever the compiler would have chosen: the CPU faults unless it is a
 // multiple of 16.
@@ -71,8 +71,9 @@ std::size_t load_every_group(const std::vector<Record>& records) {
 }
 
 std::size_t load_every_group(const PrimitiveLists& lists) {
-    return load_every_group(lists.planes.items) + load_every_group(lists.spheres.items) +
-           load_every_group(lists.cylinders.items) + load_every_group(lists.boxes.items);
+    std::size_t records = 0;
+    lists.for_each([&](const auto& list) { records += load_every_group(list.items); });
+    return records;
 }
 
 std::size_t load_every_group(const CompiledScene& compiled) {
@@ -114,10 +115,10 @@ protected:
     }
 };
 
-SphereF sphere_record() {
+SphereShape sphere_record() {
     Tracer tracer(twinray::scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "scenes" / "spheres.json"));
-    const auto& spheres = tracer.compiled().primitives.spheres.items;
-    return spheres.empty() ? SphereF{} : spheres.front();
+    const auto& spheres = tracer.compiled().primitives.of<twinray::scene::Sphere>().items;
+    return spheres.empty() ? SphereShape{} : spheres.front();
 }
 
 RayPacket packet_towards_minus_z() {
@@ -131,8 +132,8 @@ RayPacket packet_towards_minus_z() {
 // Kept out of line, fed through an opaque pointer and its result stored to a volatile, so the kernel
 // really runs and loads from `sphere` (a call whose result is unused may be removed as pure).
 volatile float kernel_result = 0;
-__attribute__((noinline)) float first_entry(const SphereF* sphere, const RayPacket& rays) {
-    float entry = spans<twinray::sse::ExactKernels>(*sphere, rays).enter.lane(0);
+__attribute__((noinline)) float first_entry(const SphereShape* sphere, const RayPacket& rays) {
+    float entry = span_of<twinray::sse::ExactPrecision>(*sphere, rays).enter.lane(0);
     kernel_result = entry;
     return entry;
 }
@@ -143,14 +144,14 @@ TEST_F(AlignmentTest, AMisalignedRecordKillsTheSphereKernel) {
                     "the MOVAPS test below still shows the fault";
 #endif
     GTEST_FLAG_SET(death_test_style, "threadsafe");
-    SphereF sphere = sphere_record();
+    SphereShape sphere = sphere_record();
     RayPacket rays = packet_towards_minus_z();
-    auto storage = std::make_unique<unsigned char[]>(sizeof(SphereF) + 32);
+    auto storage = std::make_unique<unsigned char[]>(sizeof(SphereShape) + 32);
     unsigned char* aligned = storage.get() + (16 - reinterpret_cast<std::uintptr_t>(storage.get()) % 16) % 16;
     std::memcpy(aligned, &sphere, sizeof sphere);
     std::memcpy(aligned + 20, &sphere, sizeof sphere);  // 16 + 4: off by one float
-    const SphereF* volatile at_aligned = reinterpret_cast<const SphereF*>(aligned);
-    const SphereF* volatile at_misaligned = reinterpret_cast<const SphereF*>(aligned + 20);
+    const SphereShape* volatile at_aligned = reinterpret_cast<const SphereShape*>(aligned);
+    const SphereShape* volatile at_misaligned = reinterpret_cast<const SphereShape*>(aligned + 20);
     // The same bytes, correctly aligned, work: the failure below is the address alone.
     EXPECT_EQ(first_entry(at_aligned, rays), first_entry(&sphere, rays));
     EXPECT_DEATH(first_entry(at_misaligned, rays), "");
@@ -176,10 +177,7 @@ TEST_F(AlignmentTest, EveryRecordOfEveryCompiledSceneIsReadWithAlignedLoads) {
         records += load_every_group(copy);
         // Lists grown one record at a time, as the tile culling fills its per-thread lists.
         PrimitiveLists grown;
-        grow_one_by_one(compiled.primitives.planes, grown.planes);
-        grow_one_by_one(compiled.primitives.spheres, grown.spheres);
-        grow_one_by_one(compiled.primitives.cylinders, grown.cylinders);
-        grow_one_by_one(compiled.primitives.boxes, grown.boxes);
+        compiled.primitives.for_each_pair(grown, [](const auto& all, auto& one_by_one) { grow_one_by_one(all, one_by_one); });
         records += load_every_group(grown);
     }
     EXPECT_GT(records, 100u) << "the scenes should hold records of every kind";

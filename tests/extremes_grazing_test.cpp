@@ -28,26 +28,14 @@ using twinray::numerics::TracerKind;
 namespace test = twinray::test;
 namespace scene = twinray::scene;
 
-Vec3d operator+(Vec3d a, Vec3d b) {
-    return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
-}
-Vec3d operator-(Vec3d a, Vec3d b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-Vec3d operator*(double s, Vec3d a) {
-    return {s * a[0], s * a[1], s * a[2]};
-}
-double dot(Vec3d a, Vec3d b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-Vec3d cross(Vec3d a, Vec3d b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
+using twinray::math::cross;
+using twinray::math::dot;
+
 Vec3d unit(Vec3d a) {
-    return (1 / std::sqrt(dot(a, a))) * a;
+    return twinray::math::normalize_by_reciprocal(a);
 }
 double max_abs(Vec3d a) {
-    return std::max({std::fabs(a[0]), std::fabs(a[1]), std::fabs(a[2])});
+    return twinray::math::max_abs_component(a);
 }
 
 // The ray as the tracer receives it: rounded to float for the float tracers.

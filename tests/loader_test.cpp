@@ -605,8 +605,8 @@ TEST(SphereField, HasTheAskedSpheresNumberedAsLoadedAndIsTheSameForTheSameSeed) 
         EXPECT_EQ(field.objects[i].leaf, static_cast<int>(i));
         EXPECT_EQ(field.leaf_paths[i], "objects[" + std::to_string(i) + "]");
         EXPECT_GT(sphere.radius, 0.0);
-        for (double c : sphere.center) {
-            EXPECT_LE(std::fabs(c), 10.0);
+        for (int axis = 0; axis < 3; ++axis) {
+            EXPECT_LE(std::fabs(sphere.center[axis]), 10.0);
         }
         EXPECT_GE(field.objects[i].material, 1);
         EXPECT_LT(field.objects[i].material, static_cast<int>(field.materials.size()));

@@ -27,9 +27,9 @@ namespace {
 namespace fs = std::filesystem;
 using twinray::sse::Precision;
 using twinray::sse::vfloat4;
-using FastReciprocal = twinray::sse::Kernels<true, false, false, false>;
-using FastInverseSqrt = twinray::sse::Kernels<false, true, false, false>;
-using AosDotProduct = twinray::sse::Kernels<false, false, true, false>;
+using FastReciprocal = twinray::sse::PrecisionPolicy<true, false, false, false>;
+using FastInverseSqrt = twinray::sse::PrecisionPolicy<false, true, false, false>;
+using AosDotProduct = twinray::sse::PrecisionPolicy<false, false, true, false>;
 
 // Seeded, portable floats in [low, high).
 class Floats {
@@ -95,10 +95,10 @@ TEST_F(PrecisionTest, DppsDotProductsRoundExactlyAsTheStructureOfArraysOnes) {
     Floats random(12);
     long differ = 0;
     for (int i = 0; i < 100000; ++i) {
-        const vfloat4 a[3] = {four(random, -10, 10), four(random, -10, 10), four(random, -10, 10)};
-        const vfloat4 b[3] = {four(random, -10, 10), four(random, -10, 10), four(random, -10, 10)};
-        vfloat4 aos = twinray::sse::dot3<AosDotProduct>(a, b);
-        vfloat4 soa = twinray::sse::dot3<twinray::sse::ExactKernels>(a, b);
+        const twinray::sse::Vec3x4 a{four(random, -10, 10), four(random, -10, 10), four(random, -10, 10)};
+        const twinray::sse::Vec3x4 b{four(random, -10, 10), four(random, -10, 10), four(random, -10, 10)};
+        vfloat4 aos = twinray::sse::dot<AosDotProduct>(a, b);
+        vfloat4 soa = twinray::sse::dot<twinray::sse::ExactPrecision>(a, b);
         for (int lane = 0; lane < 4; ++lane) {
             differ += aos.lane(lane) != soa.lane(lane) ? 1 : 0;
         }

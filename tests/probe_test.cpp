@@ -248,7 +248,7 @@ TEST(ProbeTest, RecordingATreeChangesNeitherTheColourNorTheRayCount) {
                 EXPECT_EQ(plain, recorded);
                 EXPECT_EQ(plain_rays, recorded_rays);
                 ASSERT_FALSE(tree.nodes.empty());
-                EXPECT_EQ(tree.nodes[0].total, triple_of(plain));
+                EXPECT_EQ(triple_of(tree.nodes[0].total), triple_of(plain));
                 if (fast) {
                     sse::Ray sse_ray = fast->primary_ray(x, y, scene.width, scene.height);
                     std::uint64_t sse_plain_rays = 0, sse_recorded_rays = 0;
@@ -258,7 +258,7 @@ TEST(ProbeTest, RecordingATreeChangesNeitherTheColourNorTheRayCount) {
                     EXPECT_EQ(triple_of(sse_plain), triple_of(sse_recorded));
                     EXPECT_EQ(sse_plain_rays, sse_recorded_rays);
                     ASSERT_FALSE(sse_tree.nodes.empty());
-                    EXPECT_EQ(sse_tree.nodes[0].total, triple_of(sse_plain));
+                    EXPECT_EQ(triple_of(sse_tree.nodes[0].total), triple_of(sse_plain));
                 }
             }
         }

@@ -86,15 +86,13 @@ void expect_aligned(const twinray::sse::PrimitiveList<Primitive>& list, const st
 }
 
 void expect_aligned(const twinray::sse::PrimitiveLists& lists, const std::string& what) {
-    expect_aligned(lists.planes, what + " planes");
-    expect_aligned(lists.spheres, what + " spheres");
-    expect_aligned(lists.cylinders, what + " cylinders");
-    expect_aligned(lists.boxes, what + " boxes");
+    int type = 0;
+    lists.for_each([&](const auto& list) { expect_aligned(list, what + " primitive type " + std::to_string(type++)); });
 }
 
 TEST_F(SseTracerTest, EveryPrimitiveRecordOnTheHeapIsSixteenByteAligned) {
-    static_assert(alignof(twinray::sse::SphereF) == 16 && alignof(twinray::sse::PlaneF) == 16 &&
-                  alignof(twinray::sse::CylinderF) == 16 && alignof(twinray::sse::BoxF) == 16);
+    static_assert(alignof(twinray::sse::SphereShape) == 16 && alignof(twinray::sse::PlaneShape) == 16 &&
+                  alignof(twinray::sse::CylinderShape) == 16 && alignof(twinray::sse::BoxShape) == 16);
     for (const char* name : {"showcase.json", "csg.json", "complete2.json"}) {
         twinray::sse::Tracer tracer(load(name));
         const twinray::sse::CompiledScene& compiled = tracer.compiled();

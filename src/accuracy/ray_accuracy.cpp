@@ -1,5 +1,8 @@
 #include "accuracy/ray_accuracy.h"
 
+#include "math/camera.h"
+#include "scene/geometry.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -77,51 +80,23 @@ double angle_between(RefVec a, RefVec b) {
 }
 
 double largest_coordinate(const scene::Scene& scene) {
-    double largest = 0;
-    auto take = [&](const scene::Vec3& v) {
-        for (double c : v)
-            largest = std::max(largest, std::fabs(c));
-    };
-    take(scene.camera.eye);
-    take(scene.camera.look_at);
-    std::function<void(const scene::Object&)> visit = [&](const scene::Object& object) {
-        std::visit(
-            [&](const auto& shape) {
-                using S = std::decay_t<decltype(shape)>;
-                if constexpr (std::is_same_v<S, scene::Plane>) {
-                    largest = std::max(largest, std::fabs(shape.offset));
-                } else if constexpr (std::is_same_v<S, scene::Sphere>) {
-                    take(shape.center);
-                    largest = std::max(largest, shape.radius);
-                } else if constexpr (std::is_same_v<S, scene::Cylinder>) {
-                    take(shape.base);
-                    take(shape.cap);
-                } else if constexpr (std::is_same_v<S, scene::Box>) {
-                    take(shape.min);
-                    take(shape.max);
-                } else {
-                    for (const auto& child : shape.children)
-                        visit(child);
-                }
-            },
-            object.shape);
-    };
-    for (const auto& object : scene.objects)
-        visit(object);
+    double largest = std::max(scene::largest_coordinate(scene.camera.eye), scene::largest_coordinate(scene.camera.look_at));
+    for (const scene::Object& object : scene.objects) {
+        largest = std::max(largest, scene::largest_coordinate(object));
+    }
     return largest;
 }
 
 RefRay reference_ray_at(const scene::Scene& scene, double px, double py, int width, int height) {
-    using namespace reference;
-    Vec3<double> eye(scene.camera.eye);
-    Vec3<double> forward = normalize(Vec3<double>(scene.camera.look_at) - eye);
-    Vec3<double> right = normalize(cross(forward, Vec3<double>(scene.camera.up)));
-    Vec3<double> up = cross(right, forward);
-    double half_width = std::tan(scene.camera.fov_deg * std::numbers::pi / 360.0);
-    double half_height = half_width * height / width;
-    double u = (2.0 * px / width - 1.0) * half_width;
+    using reference::Vec3;
+    math::CameraBasis<double> camera =
+        math::camera_basis(Vec3<double>(scene.camera.eye), Vec3<double>(scene.camera.look_at),
+                           Vec3<double>(scene.camera.up), scene.camera.fov_deg,
+                           [](Vec3<double> v) { return reference::normalize(v); });
+    double half_height = camera.half_width * height / width;
+    double u = (2.0 * px / width - 1.0) * camera.half_width;
     double v = (1.0 - 2.0 * py / height) * half_height;
-    return {eye, normalize(forward + u * right + v * up)};
+    return {camera.eye, reference::normalize(camera.forward + u * camera.right + v * camera.up)};
 }
 
 bool in_silhouette_band(const reference::Tracer<double>& reference, const scene::Scene& scene, int x, int y, int width,

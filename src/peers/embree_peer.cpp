@@ -51,12 +51,9 @@ void add_plane(const scene::Plane& plane, Quads& quads) {
                 : std::fabs(n[1]) <= std::fabs(n[2])                                     ? 1
                                                                                          : 2;
     scene::Vec3 axis{least == 0 ? 1.0 : 0.0, least == 1 ? 1.0 : 0.0, least == 2 ? 1.0 : 0.0};
-    scene::Vec3 u{n[1] * axis[2] - n[2] * axis[1], n[2] * axis[0] - n[0] * axis[2], n[0] * axis[1] - n[1] * axis[0]};
-    double length = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (double& c : u)
-        c /= length;
-    scene::Vec3 v{n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
-    scene::Vec3 centre{plane.offset * n[0], plane.offset * n[1], plane.offset * n[2]};
+    scene::Vec3 u = math::normalize(math::cross(n, axis));
+    scene::Vec3 v = math::cross(n, u);
+    scene::Vec3 centre = plane.offset * n;
     const double e = plane_extent;
     const scene::Vec3 corners[4] = {combine(centre, -e, u, -e, v), combine(centre, e, u, -e, v),
                                     combine(centre, e, u, e, v), combine(centre, -e, u, e, v)};

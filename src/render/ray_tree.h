@@ -6,8 +6,9 @@
 // off unless a tree is passed: the tracers then only test a null pointer.
 #pragma once
 
+#include "math/vec3.h"
+
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -15,7 +16,13 @@
 
 namespace twinray {
 
-using Vec3d = std::array<double, 3>;
+using Vec3d = math::Vec3<double>;
+
+// A tracer's vector (any precision) as recorded: every tree is in double.
+template <typename T>
+Vec3d recorded(const math::Vec3<T>& v) {
+    return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
+}
 
 // Why a ray was traced. A node's children are traced in this order: refracted, then reflected.
 enum class RayKind { primary, refracted, reflected };
@@ -70,6 +77,38 @@ struct RayTree {
         node.direction = direction;
         nodes.push_back(node);
         return static_cast<int>(nodes.size()) - 1;
+    }
+
+    // What the ray of `node` hit (a node without this call is a miss).
+    void set_hit(int node, int leaf, double t, Vec3d point, Vec3d normal, bool entering) {
+        RayNode& n = nodes[static_cast<std::size_t>(node)];
+        n.hit = true;
+        n.leaf = leaf;
+        n.t = t;
+        n.point = point;
+        n.normal = normal;
+        n.entering = entering;
+    }
+
+    // A light the surface faces away from (N·L ≤ 0): no shadow ray.
+    void add_light_facing_away(int node, double n_dot_l) {
+        nodes[static_cast<std::size_t>(node)].lights.push_back({n_dot_l, true, 0, {}, {}});
+    }
+
+    // A light whose shadow ray, from `origin` along `direction`, found `transmittance`.
+    void add_light(int node, double n_dot_l, double transmittance, Vec3d origin, Vec3d direction) {
+        nodes[static_cast<std::size_t>(node)].lights.push_back({n_dot_l, false, transmittance, origin, direction});
+    }
+
+    void set_local_color(int node, Vec3d color) { nodes[static_cast<std::size_t>(node)].local = color; }
+
+    // On a miss the background is both the local and the total colour.
+    void set_total_color(int node, Vec3d color) {
+        RayNode& n = nodes[static_cast<std::size_t>(node)];
+        n.total = color;
+        if (!n.hit) {
+            n.local = color;
+        }
     }
 
     std::vector<int> children(int node) const {

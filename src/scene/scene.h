@@ -2,15 +2,17 @@
 // Both tracers read this and nothing else of each other (see ../shared contract, docs/scene-format.md).
 #pragma once
 
-#include <array>
+#include "math/type_list.h"
+#include "math/vec3.h"
+
 #include <string>
 #include <variant>
 #include <vector>
 
 namespace twinray::scene {
 
-// Plain data: each tracer converts to its own vector type and precision.
-using Vec3 = std::array<double, 3>;
+// Plain data in double: each tracer converts to its own precision.
+using Vec3 = math::Vec3<double>;
 
 struct Material {
     Vec3 color{1, 1, 1};
@@ -68,8 +70,19 @@ struct Csg {
     std::vector<Object> children;
 };
 
+// The one list of primitive types, in the order every per-type loop visits them. Each dispatch on a
+// primitive's type — both tracers' compilation and kernels, numerics, accuracy, the exporter — is generated
+// from it; docs/adding-a-primitive.md lists what a new entry needs.
+using PrimitiveTypes = math::TypeList<Plane, Sphere, Cylinder, Box>;
+
+template <typename S>
+constexpr bool is_primitive = PrimitiveTypes::contains<S>;
+
+// A primitive, or a CSG operation on objects.
+using Shape = PrimitiveTypes::append<Csg>::apply<std::variant>;
+
 struct Object {
-    std::variant<Plane, Sphere, Cylinder, Box, Csg> shape;
+    Shape shape;
     // Only meaningful for primitives (leaves): index into Scene::materials, with CSG inheritance
     // already applied (own material, else nearest ancestor's, else the built-in default, index 0).
     int material = 0;

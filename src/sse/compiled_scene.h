@@ -1,9 +1,10 @@
-// The scene as the SSE tracer sees it: one flat array per primitive type, so a packet loops only over
-// the types a scene has; CSG objects apart (and culled by a bound), so scenes without CSG pay nothing
-// for it. Built once per render. Every primitive record is 16-byte aligned, on the heap too
-// (std::vector of an alignas(16) type uses C++17 aligned new).
+// The scene as the SSE tracer sees it: one flat array per primitive type (scene::PrimitiveTypes), so a
+// packet loops only over the types a scene has; CSG objects apart (and culled by a bound), so scenes
+// without CSG pay nothing for it. Built once per render. Every primitive record is 16-byte aligned, on
+// the heap too (std::vector of an alignas(16) type uses C++17 aligned new).
 #pragma once
 
+#include "math/camera.h"
 #include "sse/box.h"
 #include "sse/csg.h"
 #include "sse/cylinder.h"
@@ -12,17 +13,29 @@
 #include "sse/tracer.h"
 
 #include <cstdint>
+#include <tuple>
+#include <utility>
+#include <variant>
 #include <vector>
 
 namespace twinray::sse {
+
+// Each primitive's packet record and hit surface are what its make_shape and make_surface return
+// (sphere.h, plane.h, ...).
+template <typename S>
+using ShapeOf = decltype(make_shape(std::declval<const S&>()));
+template <typename S>
+using SurfaceOf = decltype(make_surface(std::declval<const S&>()));
 
 // Primitives of one type. `ids` are global leaf indices at top level and slots within a CSG object;
 // `transmission` is that of each primitive's material, for shadow rays.
 // `bound_centers`/`bound_radii` are a sphere around each primitive (radius +∞ for planes), for
 // culling whole tiles of primary rays.
-template <typename Primitive>
+template <typename Shape>
 struct PrimitiveList {
-    std::vector<Primitive> items;
+    using shape_type = Shape;
+
+    std::vector<Shape> items;
     std::vector<std::int32_t> ids;
     std::vector<float> transmission;
     std::vector<scene::Vec3> bound_centers;
@@ -44,14 +57,48 @@ struct PrimitiveList {
     }
 };
 
+template <typename S>
+using PrimitiveListOf = PrimitiveList<ShapeOf<S>>;
+
+// One list per primitive type, in the order of scene::PrimitiveTypes.
 struct PrimitiveLists {
-    PrimitiveList<PlaneF> planes;
-    PrimitiveList<SphereF> spheres;
-    PrimitiveList<CylinderF> cylinders;
-    PrimitiveList<BoxF> boxes;
+    scene::PrimitiveTypes::map<PrimitiveListOf>::apply<std::tuple> of_type;
+
+    template <typename S>
+    PrimitiveListOf<S>& of() {
+        return std::get<PrimitiveListOf<S>>(of_type);
+    }
+    template <typename S>
+    const PrimitiveListOf<S>& of() const {
+        return std::get<PrimitiveListOf<S>>(of_type);
+    }
+    // visit(list) for each type's list, in list order.
+    template <typename Visit>
+    void for_each(Visit&& visit) const {
+        std::apply([&](const auto&... list) { (visit(list), ...); }, of_type);
+    }
+    // visit(mine, theirs) for each type's two lists.
+    template <typename Visit>
+    void for_each_pair(PrimitiveLists& other, Visit&& visit) const {
+        for_each_index(other, visit, std::make_index_sequence<scene::PrimitiveTypes::size>{});
+    }
+    bool any_uses_inverse_direction() const {
+        bool uses = false;
+        for_each([&](const auto& list) {
+            using Shape = typename std::decay_t<decltype(list)>::shape_type;
+            uses = uses || (uses_inverse_direction<Shape> && !list.items.empty());
+        });
+        return uses;
+    }
+
+private:
+    template <typename Visit, std::size_t... I>
+    void for_each_index(PrimitiveLists& other, Visit& visit, std::index_sequence<I...>) const {
+        (visit(std::get<I>(of_type), std::get<I>(other.of_type)), ...);
+    }
 };
 
-struct CsgNodeF {
+struct CsgNode {
     scene::CsgOp op;
     int first_child;  // index into CsgObject::children_of
     int child_count;
@@ -61,32 +108,26 @@ struct CsgNodeF {
 struct CsgObject {
     PrimitiveLists leaves;                // ids are slots
     std::vector<std::int32_t> slot_leaf;  // slot -> global leaf index
-    std::vector<CsgNodeF> nodes;          // nodes[0] is the root
+    std::vector<CsgNode> nodes;           // nodes[0] is the root
     std::vector<int> children_of;         // child node indices, grouped per node
-    BoxF bound;                           // axis-aligned, ±∞ where a half-space leaves it unbounded
+    BoxShape bound;                       // axis-aligned, ±∞ where a half-space leaves it unbounded
 };
-
-enum class LeafKind : std::uint8_t { plane, sphere, cylinder, box };
 
 // What the normal of a hit and its re-projection onto the surface need, per leaf (looked up once per
 // hit, not per test).
-struct LeafInfo {
-    LeafKind kind;
-    Vec3 position;    // sphere centre, cylinder base, box min corner
-    Vec3 direction;   // plane normal, cylinder axis
-    Vec3 far_corner;  // box max corner
-    float radius;     // sphere, cylinder
-    float height;     // cylinder
-    float offset;     // plane
-    int material;
+using LeafSurface = scene::PrimitiveTypes::map<SurfaceOf>::apply<std::variant>;
+
+struct Leaf {
+    LeafSurface surface;
+    int material = 0;
 };
 
-struct MaterialF {
+struct Material {
     Color color;
     float ambient, diffuse, phong, phong_size, reflection, transmission, ior;
 };
 
-struct LightF {
+struct Light {
     Vec3 position;
     Color color;
 };
@@ -95,18 +136,17 @@ struct CompiledScene {
     PrimitiveLists primitives;  // top-level primitives; ids are leaf indices
     std::vector<CsgObject> csg_objects;
 
-    std::vector<LeafInfo> leaves;
-    std::vector<MaterialF> materials;
-    std::vector<LightF> lights;
+    std::vector<Leaf> leaves;
+    std::vector<Material> materials;
+    std::vector<Light> lights;
     Color background, ambient_light;
     int max_depth = 1;
     // Model only what the scene requires: without transparent materials a shadow ray stops at its first
     // blocker and no refracted ray is ever traced; without boxes no ray computes its reciprocal.
     bool any_transparency = false;
-    bool any_box_test = false;  // boxes, in CSG too, or CSG bounds
+    bool any_inverse_direction = false;  // boxes, in CSG too, or CSG bounds
 
-    Vec3 eye, forward, right, up;
-    float half_width = 0;
+    math::CameraBasis<float> camera;
 };
 
 CompiledScene compile(const scene::Scene& scene);

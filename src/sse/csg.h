@@ -17,6 +17,8 @@ namespace twinray::sse {
 constexpr std::int32_t tag_face_mask = 0xF;
 constexpr std::int32_t tag_flipped = 0x10;
 
+// The reference's Crossing (reference/ray.h) with a face code and flag in place of the outward normal:
+// the normal is worked out once, for the nearest hit only.
 struct Crossing {
     float t;
     std::int32_t leaf;  // -1 for the infinite ends of a half-space

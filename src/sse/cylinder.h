@@ -1,19 +1,54 @@
-// Solid capped cylinder against four rays.
+// Solid capped cylinder against four rays. Mirrors reference/cylinder.h section by section: the record and
+// its construction from the scene, the span, the surface at a hit.
 #pragma once
 
+#include "scene/geometry.h"
 #include "sse/span4.h"
+
+#include <algorithm>
+#include <cmath>
 
 namespace twinray::sse {
 
-// Parameters stored already broadcast to four lanes (see SphereF).
-struct CylinderF {
-    vfloat4 base[3];
-    vfloat4 axis[3];  // unit, base towards cap
-    vfloat4 height;   // |cap − base|
+// Parameters stored already broadcast to four lanes (see SphereShape).
+struct CylinderShape {
+    Vec3x4 base;
+    Vec3x4 axis;     // unit, base towards cap
+    vfloat4 height;  // |cap − base|
     vfloat4 radius_squared;
-    vfloat4 bound_center[3];  // a sphere around the cylinder, widened beyond float rounding
+    Vec3x4 bound_center;  // a sphere around the cylinder, widened beyond float rounding
     vfloat4 bound_radius_squared;
 };
+
+struct CylinderSurface {
+    Vec3 base;
+    Vec3 axis;
+    float radius;
+    float height;
+};
+
+// Axis and height are derived in float from the float end points, as the reference<float> does.
+inline CylinderSurface make_surface(const scene::Cylinder& cylinder) {
+    Vec3 base(cylinder.base);
+    Vec3 along = Vec3(cylinder.cap) - base;
+    return {base, math::normalize_by_reciprocal(along), static_cast<float>(cylinder.radius), math::length(along)};
+}
+
+inline CylinderShape make_shape(const scene::Cylinder& cylinder) {
+    CylinderSurface surface = make_surface(cylinder);
+    // The bounding sphere widened by 1e-4 relative: far beyond any float rounding, so that culling
+    // never loses a hit.
+    scene::BoundingSphere bound = scene::bounding_sphere(cylinder);
+    const scene::Vec3& middle = bound.center;
+    double widened =
+        bound.radius + 1e-4 * (bound.radius + std::max({std::fabs(middle[0]), std::fabs(middle[1]), std::fabs(middle[2])}));
+    return {broadcast(surface.base),
+            broadcast(surface.axis),
+            vfloat4(surface.height),
+            vfloat4(surface.radius * surface.radius),
+            broadcast(Vec3(middle)),
+            vfloat4(static_cast<float>(widened * widened))};
+}
 
 // Face codes.
 constexpr int cylinder_side = 0;
@@ -25,44 +60,32 @@ constexpr int cylinder_top_cap = 2;   // outward normal +axis
 // the slab between the caps. A ray parallel to the axis (A = 0) or to the caps is a per-lane select.
 // The textbook variant (a knob, precision.h): Δ = B² − A·C and roots (−B ∓ √Δ)/A.
 template <typename P>
-TWINRAY_KERNEL Span4 spans(const CylinderF& cylinder, const RayPacket& rays) {
+TWINRAY_KERNEL Span4 span_of(const CylinderShape& cylinder, const RayPacket& rays) {
     Span4 span;
     // A ray whose line passes outside the bounding sphere misses: a third of the arithmetic decides
     // that for most rays, which meet a cylinder only where it stands in the image.
-    vfloat4 g[3], g_perp[3];
-    for (int i = 0; i < 3; ++i) {
-        g[i] = rays.origin[i] - cylinder.bound_center[i];
-    }
-    vfloat4 along = dot3<P>(g, rays.direction);
-    for (int i = 0; i < 3; ++i) {
-        g_perp[i] = g[i] - along * rays.direction[i];
-    }
-    if (none(dot3<P>(g_perp, g_perp) <= cylinder.bound_radius_squared)) {
+    Vec3x4 g = rays.origin - cylinder.bound_center;
+    vfloat4 along = dot<P>(g, rays.direction);
+    Vec3x4 g_perp = g - along * rays.direction;
+    if (none(dot<P>(g_perp, g_perp) <= cylinder.bound_radius_squared)) {
         return span;
     }
-    vfloat4 axis[3], f[3], f_perp[3], d_perp[3];
-    for (int i = 0; i < 3; ++i) {
-        axis[i] = cylinder.axis[i];
-        f[i] = rays.origin[i] - cylinder.base[i];
-    }
-    vfloat4 axial_origin = dot3<P>(f, axis);
-    vfloat4 axial_direction = dot3<P>(rays.direction, axis);
-    for (int i = 0; i < 3; ++i) {
-        f_perp[i] = f[i] - axial_origin * axis[i];
-        d_perp[i] = rays.direction[i] - axial_direction * axis[i];
-    }
+    Vec3x4 axis = cylinder.axis;
+    Vec3x4 f = rays.origin - cylinder.base;
+    vfloat4 axial_origin = dot<P>(f, axis);
+    vfloat4 axial_direction = dot<P>(rays.direction, axis);
+    Vec3x4 f_perp = f - axial_origin * axis;
+    Vec3x4 d_perp = rays.direction - axial_direction * axis;
     vfloat4 r2 = cylinder.radius_squared;
-    vfloat4 a = dot3<P>(d_perp, d_perp);
-    vfloat4 c = dot3<P>(f_perp, f_perp) - r2;
+    vfloat4 a = dot<P>(d_perp, d_perp);
+    vfloat4 c = dot<P>(f_perp, f_perp) - r2;
     vfloat4 discriminant;
     if constexpr (P::textbook_quadratic) {
-        vfloat4 b = dot3<P>(f_perp, d_perp);
+        vfloat4 b = dot<P>(f_perp, d_perp);
         discriminant = b * b - a * c;
     } else {
-        vfloat4 moment[3] = {f_perp[1] * d_perp[2] - f_perp[2] * d_perp[1],
-                             f_perp[2] * d_perp[0] - f_perp[0] * d_perp[2],
-                             f_perp[0] * d_perp[1] - f_perp[1] * d_perp[0]};
-        discriminant = a * r2 - dot3<P>(moment, moment);
+        Vec3x4 moment = cross(f_perp, d_perp);
+        discriminant = a * r2 - dot<P>(moment, moment);
     }
     vfloat4 zero(0.0f);
     vfloat4 height = cylinder.height;
@@ -74,7 +97,7 @@ TWINRAY_KERNEL Span4 spans(const CylinderF& cylinder, const RayPacket& rays) {
     if (none(span.valid)) {
         return span;
     }
-    vfloat4 b = dot3<P>(f_perp, d_perp);
+    vfloat4 b = dot<P>(f_perp, d_perp);
     vfloat4 root = sqrt(max(discriminant, zero));
     vfloat4 t0, t1;
     if constexpr (P::textbook_quadratic) {
@@ -107,6 +130,30 @@ TWINRAY_KERNEL Span4 spans(const CylinderF& cylinder, const RayPacket& rays) {
     span.exit_face = select(exit_by_cap, far_cap, vint4(cylinder_side));
     span.valid = span.valid & (span.enter <= span.exit);
     return span;
+}
+
+// Radial on the side (not yet of unit length: the caller normalises four lanes at once), ±axis on a cap.
+inline Vec3 outward_normal(const CylinderSurface& cylinder, std::int32_t face, Vec3 point, bool& needs_normalizing) {
+    if (face == cylinder_side) {
+        Vec3 w = point - cylinder.base;
+        needs_normalizing = true;
+        return w - math::dot(w, cylinder.axis) * cylinder.axis;
+    }
+    needs_normalizing = false;
+    return face == cylinder_top_cap ? cylinder.axis : -cylinder.axis;
+}
+
+// As the reference's surface_point: on the side p' = base + h·axis + r·n̂ (`turned` −1 where a CSG
+// complement turned n̂), on a cap p' = p − (h − h_cap)·axis, a flat face and its own anchor.
+inline SurfaceAnchor surface_anchor(const CylinderSurface& cylinder, std::int32_t face, float turned, Vec3 point) {
+    float axial = math::dot(point - cylinder.base, cylinder.axis);
+    math::SurfaceBounds<float> bounds = scene::surface_bounds_of_cylinder(cylinder.radius, cylinder.height);
+    float own_rounding = bounds.own_rounding.at(math::max_abs_component(point));
+    if (face == cylinder_side) {
+        return {cylinder.base + axial * cylinder.axis, turned * cylinder.radius, own_rounding, bounds.spawn_offset};
+    }
+    float cap_axial = face == cylinder_top_cap ? cylinder.height : 0.0f;
+    return {point - (axial - cap_axial) * cylinder.axis, 0.0f, own_rounding, bounds.spawn_offset};
 }
 
 }  // namespace twinray::sse

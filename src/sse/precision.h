@@ -1,7 +1,7 @@
 // The SSE tracer's speed/accuracy knobs (issue 7, docs/performance.md) as a compile-time policy: every
 // division, normalisation, dot product and quadratic of the kernels and of shading goes through the
 // functions below, so one source compiles into one tracer per policy, chosen once per render (no
-// branch per ray). `ExactKernels` is the tracer as it always was: IEEE divide and square root,
+// branch per ray). `ExactPrecision` is the tracer as it always was: IEEE divide and square root,
 // structure-of-arrays dot products, the cancellation-free quadratic. Denormal flushing is not here: it
 // is a run-time MXCSR setting (ScopedFlushDenormals), which costs nothing to choose.
 #pragma once
@@ -13,14 +13,14 @@
 namespace twinray::sse {
 
 template <bool FastReciprocal, bool FastInverseSqrt, bool AosDotProduct, bool TextbookQuadratic>
-struct Kernels {
+struct PrecisionPolicy {
     static constexpr bool fast_rcp = FastReciprocal;               // _mm_rcp_ps + one Newton step for 1/x and a/b
     static constexpr bool fast_rsqrt = FastInverseSqrt;            // _mm_rsqrt_ps + one Newton step for 1/|v|
     static constexpr bool dpps = AosDotProduct;                    // transpose to one 3-vector per register, _mm_dp_ps
     static constexpr bool textbook_quadratic = TextbookQuadratic;  // b² − a·c and (−b ± √Δ)/a
 };
 
-using ExactKernels = Kernels<false, false, false, false>;
+using ExactPrecision = PrecisionPolicy<false, false, false, false>;
 
 // 1/x. rcpps has 12 bits; one Newton step x₁ = x₀·(2 − a·x₀) brings it to about 22 bits (a few ulp),
 // without rounding correctly. rcpps(0) = ∞ and the step then gives NaN (∞·0): every caller masks the
@@ -55,15 +55,15 @@ TWINRAY_KERNEL vfloat4 inverse_sqrt(vfloat4 x) {
     }
 }
 
-// Four dot products of 3-vectors stored as structure of arrays (a[axis] holds that axis of four
-// vectors). SoA: three multiplies and two adds. The thesis's AoS way, as a packet tracer must pay for
+// Four dot products of 3-vectors stored as structure of arrays (a.x holds the x of four vectors).
+// SoA: three multiplies and two adds. The thesis's AoS way, as a packet tracer must pay for
 // it: transpose both operands to one vector per register, four dpps, and blend the four results back
 // into lanes. dpps sums (p0 + p1) + (p2 + p3) with p3 = 0, the SoA order, so both round alike.
 template <typename P>
-TWINRAY_KERNEL vfloat4 dot3(const vfloat4 a[3], const vfloat4 b[3]) {
+TWINRAY_KERNEL vfloat4 dot(const Vec3x4& a, const Vec3x4& b) {
     if constexpr (P::dpps) {
-        __m128 a0 = a[0].m, a1 = a[1].m, a2 = a[2].m, a3 = _mm_setzero_ps();
-        __m128 b0 = b[0].m, b1 = b[1].m, b2 = b[2].m, b3 = _mm_setzero_ps();
+        __m128 a0 = a.x.m, a1 = a.y.m, a2 = a.z.m, a3 = _mm_setzero_ps();
+        __m128 b0 = b.x.m, b1 = b.y.m, b2 = b.z.m, b3 = _mm_setzero_ps();
         _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
         _MM_TRANSPOSE4_PS(b0, b1, b2, b3);
         __m128 lane0 = _mm_dp_ps(a0, b0, 0x71);
@@ -72,8 +72,15 @@ TWINRAY_KERNEL vfloat4 dot3(const vfloat4 a[3], const vfloat4 b[3]) {
         __m128 lane3 = _mm_dp_ps(a3, b3, 0x78);
         return vfloat4(_mm_or_ps(_mm_or_ps(lane0, lane1), _mm_or_ps(lane2, lane3)));
     } else {
-        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        return math::dot(a, b);
     }
+}
+
+// 1/|a| by the policy's inverse_sqrt; exact, as the scalar normalize_by_reciprocal: one IEEE division
+// shared by the three components.
+template <typename P>
+TWINRAY_KERNEL Vec3x4 normalize(const Vec3x4& a) {
+    return inverse_sqrt<P>(dot<P>(a, a)) * a;
 }
 
 // Flush-to-zero and denormals-are-zero in MXCSR for as long as it lives (when `enable`), then the

@@ -3,6 +3,8 @@
 // Only the SSE tracer's own translation units include this; they alone are built with -msse4.1.
 #pragma once
 
+#include "math/vec3.h"
+
 #include <smmintrin.h>
 
 #include <cstdint>
@@ -142,5 +144,19 @@ inline vbool4 select_mask(vbool4 mask, vbool4 a, vbool4 b) {
 inline vint4 select(vbool4 mask, vint4 a, vint4 b) {
     return vint4(_mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(b.m), _mm_castsi128_ps(a.m), mask.m)));
 }
+
+// Four 3-vectors, one per lane: a packet's origins, directions, normals, colours. The same Vec3 as all
+// scalar code (math/vec3.h) on vfloat4, so `a - b`, `s * a` and `cross(a, b)` round exactly as their
+// scalar twins, lane by lane. Dot products go through the precision policy (dot in precision.h).
+using Vec3x4 = math::Vec3<vfloat4>;
+
+inline Vec3x4 broadcast(const math::Vec3<float>& v) { return {vfloat4(v.x), vfloat4(v.y), vfloat4(v.z)}; }
+inline Vec3x4 select(vbool4 mask, const Vec3x4& a, const Vec3x4& b) {
+    return {select(mask, a.x, b.x), select(mask, a.y, b.y), select(mask, a.z, b.z)};
+}
+inline Vec3x4 abs(const Vec3x4& a) { return {abs(a.x), abs(a.y), abs(a.z)}; }
+inline vfloat4 max_abs_component(const Vec3x4& a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
+// Lane `i` of each component, as a scalar vector.
+inline math::Vec3<float> lane(const Vec3x4& v, int i) { return {v.x.lane(i), v.y.lane(i), v.z.lane(i)}; }
 
 }  // namespace twinray::sse

@@ -1,16 +1,33 @@
-// Sphere |p − c| = r, against four rays.
+// Sphere |p − c| = r, against four rays. Mirrors reference/sphere.h section by section: the record and
+// its construction from the scene, the span, the surface at a hit.
 #pragma once
 
+#include "scene/geometry.h"
 #include "sse/span4.h"
 
 namespace twinray::sse {
 
 // Parameters stored already broadcast to four lanes: a load per parameter instead of a load and a
 // shuffle in the innermost loop (64 bytes a sphere, which a handful of spheres can afford).
-struct SphereF {
-    vfloat4 center[3];
+struct SphereShape {
+    Vec3x4 center;
     vfloat4 radius_squared;
 };
+
+// What one hit needs: its normal and re-projection.
+struct SphereSurface {
+    Vec3 center;
+    float radius;
+};
+
+inline SphereShape make_shape(const scene::Sphere& sphere) {
+    float radius = static_cast<float>(sphere.radius);
+    return {broadcast(Vec3(sphere.center)), vfloat4(radius * radius)};
+}
+
+inline SphereSurface make_surface(const scene::Sphere& sphere) {
+    return {Vec3(sphere.center), static_cast<float>(sphere.radius)};
+}
 
 // Same formula as the reference (reference/sphere.h): with f = o − c, b = f·d,
 // Δ = r² − |f − b·d|² (no cancellation far from the sphere), q = −b − sign(b)·√Δ, t = q and c/q.
@@ -19,22 +36,16 @@ struct SphereF {
 // about |f|², so Δ loses its digits to cancellation as the sphere gets far in radii, and so does the
 // nearer root.
 template <typename P>
-TWINRAY_KERNEL Span4 spans(const SphereF& sphere, const RayPacket& rays) {
-    vfloat4 f[3];
-    for (int axis = 0; axis < 3; ++axis) {
-        f[axis] = rays.origin[axis] - sphere.center[axis];
-    }
-    vfloat4 b = dot3<P>(f, rays.direction);
+TWINRAY_KERNEL Span4 span_of(const SphereShape& sphere, const RayPacket& rays) {
+    Vec3x4 f = rays.origin - sphere.center;
+    vfloat4 b = dot<P>(f, rays.direction);
     vfloat4 r2 = sphere.radius_squared;
     vfloat4 discriminant;
     if constexpr (P::textbook_quadratic) {
-        discriminant = b * b - (dot3<P>(f, f) - r2);
+        discriminant = b * b - (dot<P>(f, f) - r2);
     } else {
-        vfloat4 perpendicular[3];
-        for (int axis = 0; axis < 3; ++axis) {
-            perpendicular[axis] = f[axis] - b * rays.direction[axis];
-        }
-        discriminant = r2 - dot3<P>(perpendicular, perpendicular);
+        Vec3x4 perpendicular = f - b * rays.direction;
+        discriminant = r2 - dot<P>(perpendicular, perpendicular);
     }
     Span4 span;
     span.valid = discriminant >= vfloat4(0.0f);
@@ -47,13 +58,26 @@ TWINRAY_KERNEL Span4 spans(const SphereF& sphere, const RayPacket& rays) {
         span.exit = -b + root;
         return span;
     }
-    vfloat4 c = dot3<P>(f, f) - r2;
+    vfloat4 c = dot<P>(f, f) - r2;
     vfloat4 q = -b - copysign(root, b);
     vfloat4 t0 = q;
     vfloat4 t1 = select(q == vfloat4(0.0f), vfloat4(0.0f), divide<P>(c, q));
     span.enter = min(t0, t1);
     span.exit = max(t0, t1);
     return span;
+}
+
+// The outward normal p − c, not yet of unit length (the caller normalises four lanes at once).
+inline Vec3 outward_normal(const SphereSurface& sphere, std::int32_t /*face*/, Vec3 point, bool& needs_normalizing) {
+    needs_normalizing = true;
+    return point - sphere.center;
+}
+
+// p' = c + r·n̂, as the reference's surface_point; `turned` is −1 where a CSG complement turned n̂.
+inline SurfaceAnchor surface_anchor(const SphereSurface& sphere, std::int32_t /*face*/, float turned, Vec3 point) {
+    math::SurfaceBounds<float> bounds = scene::surface_bounds_of_sphere(sphere.radius);
+    return {sphere.center, turned * sphere.radius, bounds.own_rounding.at(math::max_abs_component(point)),
+            bounds.spawn_offset};
 }
 
 }  // namespace twinray::sse

@@ -1,0 +1,83 @@
+#include "scene/geometry.h"
+
+#include <variant>
+
+namespace twinray::scene {
+namespace {
+
+Bounds merged(const Bounds& a, const Bounds& b, bool intersect) {
+    Bounds out;
+    for (int axis = 0; axis < 3; ++axis) {
+        out.low[axis] = intersect ? std::max(a.low[axis], b.low[axis]) : std::min(a.low[axis], b.low[axis]);
+        out.high[axis] = intersect ? std::min(a.high[axis], b.high[axis]) : std::max(a.high[axis], b.high[axis]);
+    }
+    return out;
+}
+
+}  // namespace
+
+Bounds bounds(const Object& object) {
+    return std::visit(
+        [](const auto& shape) {
+            if constexpr (is_primitive<std::decay_t<decltype(shape)>>) {
+                return bounds(shape);
+            } else {
+                Bounds out = bounds(shape.children.front());
+                if (shape.op == CsgOp::difference) {
+                    return out;
+                }
+                for (std::size_t i = 1; i < shape.children.size(); ++i) {
+                    out = merged(out, bounds(shape.children[i]), shape.op == CsgOp::intersection);
+                }
+                return out;
+            }
+        },
+        object.shape);
+}
+
+// Csg has no overloads of its own: each operation recurses into the children.
+void move(Object& object, double scale, double shift) {
+    std::visit(
+        [&](auto& shape) {
+            if constexpr (is_primitive<std::decay_t<decltype(shape)>>) {
+                shape = moved(shape, scale, shift);
+            } else {
+                for (Object& child : shape.children) {
+                    move(child, scale, shift);
+                }
+            }
+        },
+        object.shape);
+}
+
+void round_to_float(Object& object) {
+    std::visit(
+        [&](auto& shape) {
+            if constexpr (is_primitive<std::decay_t<decltype(shape)>>) {
+                shape = rounded_to_float(shape);
+            } else {
+                for (Object& child : shape.children) {
+                    round_to_float(child);
+                }
+            }
+        },
+        object.shape);
+}
+
+double largest_coordinate(const Object& object) {
+    return std::visit(
+        [&](const auto& shape) {
+            if constexpr (is_primitive<std::decay_t<decltype(shape)>>) {
+                return largest_coordinate(shape);
+            } else {
+                double largest = 0;
+                for (const Object& child : shape.children) {
+                    largest = std::max(largest, largest_coordinate(child));
+                }
+                return largest;
+            }
+        },
+        object.shape);
+}
+
+}  // namespace twinray::scene

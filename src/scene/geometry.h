@@ -1,0 +1,160 @@
+// What the scene model knows of each primitive's geometry, shared by both tracers and the tools: bounds,
+// moving and rounding a primitive, and the rounding bounds of its surface in a tracer's precision. One
+// section per primitive, in the order of scene::PrimitiveTypes; intersection formulas are not here (each
+// tracer writes its own).
+#pragma once
+
+#include "math/rounding.h"
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace twinray::scene {
+
+// An axis-aligned box, ±∞ where a solid is unbounded.
+struct Bounds {
+    Vec3 low, high;
+};
+
+struct BoundingSphere {
+    Vec3 center;
+    double radius;
+};
+
+// p·scale + shift on every axis: the move of numerics' scale and distance cases.
+inline Vec3 moved(const Vec3& p, double scale, double shift) {
+    return {p[0] * scale + shift, p[1] * scale + shift, p[2] * scale + shift};
+}
+
+inline Vec3 rounded_to_float(const Vec3& v) {
+    return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+}
+
+inline Bounds around(const Vec3& a, const Vec3& b, double pad) {
+    Bounds out;
+    for (int axis = 0; axis < 3; ++axis) {
+        out.low[axis] = std::min(a[axis], b[axis]) - pad;
+        out.high[axis] = std::max(a[axis], b[axis]) + pad;
+    }
+    return out;
+}
+
+inline double largest_coordinate(const Vec3& v) {
+    return std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
+}
+
+// Plane ------------------------------------------------------------------------------------------------
+
+inline Bounds bounds(const Plane&) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    return {{-inf, -inf, -inf}, {inf, inf, inf}};
+}
+inline BoundingSphere bounding_sphere(const Plane&) { return {{0, 0, 0}, std::numeric_limits<double>::infinity()}; }
+// n·(p·s + shift·(1, 1, 1)) = s·d + shift·(n₀ + n₁ + n₂).
+inline Plane moved(const Plane& plane, double scale, double shift) {
+    return {plane.normal, plane.offset * scale + shift * (plane.normal[0] + plane.normal[1] + plane.normal[2])};
+}
+inline Plane rounded_to_float(const Plane& plane) {
+    return {rounded_to_float(plane.normal), static_cast<float>(plane.offset)};
+}
+inline double largest_coordinate(const Plane& plane) { return std::fabs(plane.offset); }
+// own rounding γ(2)·|p|∞ + γ(1)·|d|, spawn offset γ(15)·|p'|∞ + γ(2)·|d| (reference/plane.h derives them).
+template <typename T>
+math::SurfaceBounds<T> surface_bounds_of_plane(T offset) {
+    using math::rounding_bound;
+    return {{rounding_bound<T>(1) * std::fabs(offset), rounding_bound<T>(2)},
+            {rounding_bound<T>(2) * std::fabs(offset), rounding_bound<T>(15)}};
+}
+
+// Sphere -----------------------------------------------------------------------------------------------
+
+inline Bounds bounds(const Sphere& sphere) { return around(sphere.center, sphere.center, sphere.radius); }
+inline BoundingSphere bounding_sphere(const Sphere& sphere) { return {sphere.center, sphere.radius}; }
+inline Sphere moved(const Sphere& sphere, double scale, double shift) {
+    return {moved(sphere.center, scale, shift), sphere.radius * scale};
+}
+inline Sphere rounded_to_float(const Sphere& sphere) {
+    return {rounded_to_float(sphere.center), static_cast<float>(sphere.radius)};
+}
+inline double largest_coordinate(const Sphere& sphere) {
+    return std::max(largest_coordinate(sphere.center), sphere.radius);
+}
+// own rounding γ(5)·r + γ(2)·|p|∞, spawn offset γ(9)·r + γ(4)·|p'|∞ (reference/sphere.h derives them).
+template <typename T>
+math::SurfaceBounds<T> surface_bounds_of_sphere(T radius) {
+    using math::rounding_bound;
+    return {{rounding_bound<T>(5) * radius, rounding_bound<T>(2)}, {rounding_bound<T>(9) * radius, rounding_bound<T>(4)}};
+}
+
+// Cylinder ---------------------------------------------------------------------------------------------
+
+// End points ± radius on every axis.
+inline Bounds bounds(const Cylinder& cylinder) { return around(cylinder.base, cylinder.cap, cylinder.radius); }
+inline BoundingSphere bounding_sphere(const Cylinder& cylinder) {
+    BoundingSphere out{};
+    double half_length_squared = 0;
+    for (int i = 0; i < 3; ++i) {
+        out.center[i] = 0.5 * (cylinder.base[i] + cylinder.cap[i]);
+        half_length_squared += 0.25 * (cylinder.cap[i] - cylinder.base[i]) * (cylinder.cap[i] - cylinder.base[i]);
+    }
+    out.radius = std::sqrt(half_length_squared + cylinder.radius * cylinder.radius);
+    return out;
+}
+inline Cylinder moved(const Cylinder& cylinder, double scale, double shift) {
+    return {moved(cylinder.base, scale, shift), moved(cylinder.cap, scale, shift), cylinder.radius * scale};
+}
+inline Cylinder rounded_to_float(const Cylinder& cylinder) {
+    return {rounded_to_float(cylinder.base), rounded_to_float(cylinder.cap), static_cast<float>(cylinder.radius)};
+}
+inline double largest_coordinate(const Cylinder& cylinder) {
+    return std::max(largest_coordinate(cylinder.base), largest_coordinate(cylinder.cap));
+}
+// own rounding γ(5)·(r + h) + γ(2)·|p|∞, spawn offset γ(12)·(r + h) + γ(4)·|p'|∞ (reference/cylinder.h).
+template <typename T>
+math::SurfaceBounds<T> surface_bounds_of_cylinder(T radius, T height) {
+    using math::rounding_bound;
+    return {{rounding_bound<T>(5) * (radius + height), rounding_bound<T>(2)},
+            {rounding_bound<T>(12) * (radius + height), rounding_bound<T>(4)}};
+}
+
+// Box --------------------------------------------------------------------------------------------------
+
+inline Bounds bounds(const Box& box) { return around(box.min, box.max, 0.0); }
+inline BoundingSphere bounding_sphere(const Box& box) {
+    BoundingSphere out{};
+    double half_diagonal_squared = 0;
+    for (int i = 0; i < 3; ++i) {
+        out.center[i] = 0.5 * (box.min[i] + box.max[i]);
+        half_diagonal_squared += 0.25 * (box.max[i] - box.min[i]) * (box.max[i] - box.min[i]);
+    }
+    out.radius = std::sqrt(half_diagonal_squared);
+    return out;
+}
+inline Box moved(const Box& box, double scale, double shift) {
+    return {moved(box.min, scale, shift), moved(box.max, scale, shift)};
+}
+inline Box rounded_to_float(const Box& box) { return {rounded_to_float(box.min), rounded_to_float(box.max)}; }
+inline double largest_coordinate(const Box& box) {
+    return std::max(largest_coordinate(box.min), largest_coordinate(box.max));
+}
+// The face coordinate is set exactly (no own rounding); spawn offset γ(3)·|p'|∞ (reference/box.h).
+template <typename T>
+math::SurfaceBounds<T> surface_bounds_of_box() {
+    return {{T(0), T(0)}, {T(0), math::rounding_bound<T>(3)}};
+}
+
+// Any object ---------------------------------------------------------------------------------------------
+
+// A conservative bound: an intersection by the overlap of its children's bounds, a difference by its first
+// child's, a union by the hull of all.
+Bounds bounds(const Object& object);
+// Every primitive moved (p·scale + shift on every axis, lengths times scale).
+void move(Object& object, double scale, double shift);
+// Every coordinate and length rounded to float: the geometry a float tracer holds.
+void round_to_float(Object& object);
+// The largest |coordinate| (and sphere radius, plane offset) of the object's primitives.
+double largest_coordinate(const Object& object);
+
+}  // namespace twinray::scene

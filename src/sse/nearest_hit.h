@@ -1,0 +1,276 @@
+// The nearest hit of four rays: every primitive's span (per type, in the order of the list), CSG objects
+// folded per lane, and the hit's normal and re-projection onto its surface. Only the SSE tracer's own
+// translation units (built with -msse4.1) include this.
+#pragma once
+
+#include "sse/compiled_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace twinray::sse {
+
+// Tag bits of a nearest hit: the crossing's tag (face, flipped) plus whether the ray enters there.
+constexpr std::int32_t tag_entering = 0x20;
+
+// Rays in a lane mask (a popcount without relying on the POPCNT instruction, which SSE4.1 lacks).
+inline std::uint64_t lane_count(vbool4 mask) {
+    constexpr std::uint8_t bits[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+    return bits[movemask(mask)];
+}
+
+// The nearest crossing so far, per lane (per ray).
+struct Nearest4 {
+    vfloat4 t{infinity};
+    vint4 leaf{-1};
+    vint4 tag{0};
+};
+
+// A primitive's first crossing after t = 0 is its enter if that lies ahead, else its exit. Smaller t
+// wins; at equal t the smaller leaf, i.e. the object earlier in the file.
+inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf_id) {
+    vfloat4 zero(0.0f);
+    vint4 leaf(leaf_id);
+    vbool4 entering = span.enter > zero;
+    vfloat4 t = select(entering, span.enter, span.exit);
+    vint4 tag = select(entering, span.enter_face | vint4(tag_entering), span.exit_face);
+    vbool4 nearer = span.valid & (t > zero) & ((t < nearest.t) | ((t == nearest.t) & (leaf < nearest.leaf)));
+    nearest.t = select(nearer, t, nearest.t);
+    nearest.leaf = select(nearer, leaf, nearest.leaf);
+    nearest.tag = select(nearer, tag, nearest.tag);
+}
+
+// Calls visit(span, id, transmission) for every primitive of every type present that some ray meets.
+// Primitives that no ray of the packet meets are skipped before any use of their span: in a coherent
+// packet that is most of them.
+template <typename P, typename Visit>
+void for_each_span(const PrimitiveLists& lists, const RayPacket& rays, Visit&& visit) {
+    lists.for_each([&](const auto& list) {
+        for (std::size_t i = 0; i < list.items.size(); ++i) {
+            Span4 span = span_of<P>(list.items[i], rays);
+            if (any(span.valid)) {
+                visit(span, list.ids[i], list.transmission[i]);
+            }
+        }
+    });
+}
+
+// A CSG object's span list for one lane of a packet: every leaf's span computed for the whole packet
+// (four rays per instruction), then the tree folded bottom-up per ray in stack arrays.
+template <typename P>
+class CsgEvaluation {
+public:
+    CsgEvaluation(const CsgObject& object, const RayPacket& rays) : object_(object) {
+        std::fill(valid_, valid_ + object.slot_leaf.size(), 0);  // leaves no ray meets are not visited
+        for_each_span<P>(object.leaves, rays, [&](const Span4& span, std::int32_t slot, float) {
+            span.enter.store(enter_[slot]);
+            span.exit.store(exit_[slot]);
+            span.enter_face.store(enter_face_[slot]);
+            span.exit_face.store(exit_face_[slot]);
+            valid_[slot] = movemask(span.valid);
+        });
+    }
+
+    void evaluate(int lane, SpanArray& out) const { evaluate(lane, 0, out); }
+
+private:
+    void evaluate(int lane, int node_index, SpanArray& out) const {
+        const CsgNode& node = object_.nodes[static_cast<std::size_t>(node_index)];
+        if (node.slot >= 0) {
+            out.clear();
+            int slot = node.slot;
+            if ((valid_[slot] >> lane) & 1) {
+                std::int32_t leaf = object_.slot_leaf[static_cast<std::size_t>(slot)];
+                float enter = enter_[slot][lane];
+                float exit = exit_[slot][lane];
+                out.push({enter, std::isinf(enter) ? -1 : leaf, enter_face_[slot][lane]},
+                         {exit, std::isinf(exit) ? -1 : leaf, exit_face_[slot][lane]});
+            }
+            return;
+        }
+        const int* children = &object_.children_of[static_cast<std::size_t>(node.first_child)];
+        SpanArray operand, scratch, other;
+        SpanArray* accumulated = &out;
+        SpanArray* combined = &other;
+        evaluate(lane, children[0], *accumulated);
+        for (int i = 1; i < node.child_count; ++i) {
+            evaluate(lane, children[i], operand);
+            csg_combine(node.op, *accumulated, operand, scratch, *combined);
+            std::swap(accumulated, combined);
+        }
+        if (accumulated != &out) {
+            out.assign(*accumulated);
+        }
+    }
+
+    const CsgObject& object_;
+    alignas(16) float enter_[scene::max_csg_leaves][4];
+    alignas(16) float exit_[scene::max_csg_leaves][4];
+    alignas(16) std::int32_t enter_face_[scene::max_csg_leaves][4];
+    alignas(16) std::int32_t exit_face_[scene::max_csg_leaves][4];
+    int valid_[scene::max_csg_leaves];
+};
+
+// The lanes whose ray meets the object's bound somewhere in (0, limit).
+template <typename P>
+inline int lanes_meeting_bound(const CsgObject& object, const RayPacket& rays, vfloat4 limit) {
+    Span4 span = span_of<P>(object.bound, rays);
+    return movemask(rays.active & span.valid & (span.exit > vfloat4(0.0f)) & (span.enter < limit));
+}
+
+struct Hit4 {
+    vbool4 hit;  // active lanes whose ray met a surface
+    vfloat4 t;
+    Vec3x4 point;   // re-projected onto the primitive's surface
+    Vec3x4 normal;  // unit, facing the ray
+    vint4 leaf;
+    vbool4 entering;
+    vfloat4 spawn_offset;  // how far off the surface secondary rays start
+};
+
+template <typename P>
+class NearestHit {
+public:
+    explicit NearestHit(const CompiledScene& scene) : scene_(scene) {}
+
+    // `candidates` are the top-level primitives that can be hit: all of them, or for primary rays the
+    // ones a tile can see (TileCulling).
+    Hit4 intersect(RayPacket& rays, const PrimitiveLists& candidates) const {
+        if (scene_.any_inverse_direction) {
+            rays.template compute_inverse_direction<P>();
+        }
+        Nearest4 nearest;
+        for_each_span<P>(candidates, rays,
+                         [&](const Span4& span, std::int32_t leaf, float) { keep_nearest(nearest, span, leaf); });
+        if (!scene_.csg_objects.empty()) {
+            nearest_csg_crossings(rays, nearest);
+        }
+        return finish(rays, nearest);
+    }
+
+private:
+    // Per lane: CSG objects whose bound the ray meets before its nearest hit so far.
+    void nearest_csg_crossings(const RayPacket& rays, Nearest4& nearest) const {
+        alignas(16) float t[4];
+        alignas(16) std::int32_t leaf[4], tag[4];
+        nearest.t.store(t);
+        nearest.leaf.store(leaf);
+        nearest.tag.store(tag);
+        for (const CsgObject& object : scene_.csg_objects) {
+            int lanes = lanes_meeting_bound<P>(object, rays, vfloat4::load(t));
+            if (lanes == 0) {
+                continue;
+            }
+            CsgEvaluation<P> evaluation(object, rays);
+            for (int lane = 0; lane < 4; ++lane) {
+                if (((lanes >> lane) & 1) == 0) {
+                    continue;
+                }
+                SpanArray spans;
+                evaluation.evaluate(lane, spans);
+                for (int i = 0; i < spans.count; ++i) {
+                    bool entering = spans.enter[i].t > 0.0f;
+                    const Crossing& crossing = entering ? spans.enter[i] : spans.exit[i];
+                    if (!(crossing.t > 0.0f)) {
+                        continue;
+                    }
+                    if (crossing.leaf >= 0 &&
+                        (crossing.t < t[lane] || (crossing.t == t[lane] && crossing.leaf < leaf[lane]))) {
+                        t[lane] = crossing.t;
+                        leaf[lane] = crossing.leaf;
+                        tag[lane] = crossing.tag | (entering ? tag_entering : 0);
+                    }
+                    break;
+                }
+            }
+        }
+        nearest.t = vfloat4::load(t);
+        nearest.leaf = vint4::load(leaf);
+        nearest.tag = vint4::load(tag);
+    }
+
+    // The surface of each lane's hit from its primitive's header (outward_normal, surface_anchor): the
+    // normal's direction, whether it still needs normalising, and where the point re-projects to.
+    struct LaneSurface {
+        Vec3 outward{0.0f, 0.0f, 1.0f};
+        bool needs_normalizing = false;
+        SurfaceAnchor anchor;
+    };
+
+    static LaneSurface lane_surface(const Leaf& leaf, std::int32_t tag, Vec3 point) {
+        LaneSurface out;
+        std::int32_t face = tag & tag_face_mask;
+        bool flipped = (tag & tag_flipped) != 0;
+        std::visit(
+            [&](const auto& surface) {
+                out.outward = outward_normal(surface, face, point, out.needs_normalizing);
+                out.anchor = surface_anchor(surface, face, flipped ? -1.0f : 1.0f, point);
+            },
+            leaf.surface);
+        if (flipped) {
+            out.outward = -out.outward;
+        }
+        return out;
+    }
+
+    Hit4 finish(const RayPacket& rays, const Nearest4& nearest) const {
+        Hit4 hit;
+        hit.hit = rays.active & !(nearest.leaf == vint4(-1));
+        if (none(hit.hit)) {
+            return hit;
+        }
+        hit.t = nearest.t;
+        const Vec3x4& direction = rays.direction;
+        hit.point = rays.origin + hit.t * direction;
+        hit.leaf = nearest.leaf;
+        hit.entering = {
+            _mm_castsi128_ps(_mm_cmpeq_epi32((nearest.tag & vint4(tag_entering)).m, vint4(tag_entering).m))};
+        alignas(16) float point[3][4], normal[3][4], anchor[3][4], radius[4], own_rounding[4], size_bound[4],
+            point_factor[4];
+        alignas(16) std::int32_t leaf[4], tag[4], curved[4];
+        for (int axis = 0; axis < 3; ++axis) {
+            hit.point[axis].store(point[axis]);
+        }
+        nearest.leaf.store(leaf);
+        nearest.tag.store(tag);
+        int lanes = movemask(hit.hit);
+        for (int lane = 0; lane < 4; ++lane) {
+            LaneSurface surface;
+            if ((lanes >> lane) & 1) {
+                const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
+                surface = lane_surface(info, tag[lane], {point[0][lane], point[1][lane], point[2][lane]});
+            }
+            for (int axis = 0; axis < 3; ++axis) {
+                normal[axis][lane] = surface.outward[axis];
+                anchor[axis][lane] = surface.anchor.anchor[axis];
+            }
+            curved[lane] = surface.needs_normalizing ? -1 : 0;
+            radius[lane] = surface.anchor.radius;
+            own_rounding[lane] = surface.anchor.own_rounding;
+            size_bound[lane] = surface.anchor.spawn_offset.size;
+            point_factor[lane] = surface.anchor.spawn_offset.point_factor;
+        }
+        Vec3x4 outward{vfloat4::load(normal[0]), vfloat4::load(normal[1]), vfloat4::load(normal[2])};
+        vbool4 normalize_lanes{_mm_castsi128_ps(vint4::load(curved).m)};
+        if (any(normalize_lanes)) {
+            // As the reference's radial_normal: a radial vector of exactly zero (a primitive smaller than
+            // the ulp where it stands) has no direction; the ray's reverse stands in for it, not a NaN.
+            vbool4 degenerate = dot<P>(outward, outward) == vfloat4(0.0f);
+            outward = select(normalize_lanes, normalize<P>(select(degenerate, -direction, outward)), outward);
+        }
+        // Re-projected onto the surface where measurably off it: p is |n̂·(p − anchor)| from the anchor
+        // along n̂ and p' is |radius| (0 on flat faces, whose anchor is p' itself).
+        Vec3x4 anchors{vfloat4::load(anchor[0]), vfloat4::load(anchor[1]), vfloat4::load(anchor[2])};
+        vfloat4 radii = vfloat4::load(radius);
+        vfloat4 off_surface = abs(abs(dot<P>(outward, hit.point - anchors)) - abs(radii));
+        hit.point = select(off_surface > vfloat4::load(own_rounding), anchors + radii * outward, hit.point);
+        hit.spawn_offset = vfloat4::load(size_bound) + vfloat4::load(point_factor) * max_abs_component(hit.point);
+        hit.normal = select(dot<P>(outward, direction) > vfloat4(0.0f), -outward, outward);
+        return hit;
+    }
+
+    const CompiledScene& scene_;
+};
+
+}  // namespace twinray::sse

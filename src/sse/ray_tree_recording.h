@@ -1,0 +1,63 @@
+// Recording the ray tree (twinray probe) of lane 0, where the per-ray API runs its one ray, through the
+// same RayTree calls as the reference. The tracing code calls these only when it has a tree (one null
+// test); they are cold, out of the packets' way.
+#pragma once
+
+#include "render/ray_tree.h"
+#include "sse/nearest_hit.h"
+
+namespace twinray::sse {
+
+inline Vec3d lane0(const Vec3x4& v) { return recorded(lane(v, 0)); }
+
+// The node of lane 0's ray, or -1 when lane 0 is not active (then nothing below it is recorded).
+[[gnu::cold]] inline int record_ray(RayTree& tree, RayKind kind, int depth, int parent, const RayPacket& rays,
+                                    const Hit4& hit) {
+    if ((movemask(rays.active) & 1) == 0) {
+        return -1;
+    }
+    int index = tree.add(kind, depth, parent, lane0(rays.origin), lane0(rays.direction));
+    if (movemask(hit.hit) & 1) {
+        alignas(16) std::int32_t leaf[4];
+        hit.leaf.store(leaf);
+        tree.set_hit(index, leaf[0], static_cast<double>(hit.t.lane(0)), lane0(hit.point), lane0(hit.normal),
+                     (movemask(hit.entering) & 1) != 0);
+    }
+    return index;
+}
+
+// Lane 0's light: facing away (not in `lit`: no shadow ray), else its shadow ray and transmittance.
+template <typename P>
+[[gnu::cold]] void record_light(RayTree& tree, int node, vfloat4 lambert, vbool4 lit, const Vec3x4& shadow_origin,
+                                Vec3 light_position, vfloat4 transmittance) {
+    if (node < 0) {
+        return;
+    }
+    double n_dot_l = static_cast<double>(lambert.lane(0));
+    if ((movemask(lit) & 1) == 0) {
+        tree.add_light_facing_away(node, n_dot_l);
+        return;
+    }
+    tree.add_light(node, n_dot_l, static_cast<double>(transmittance.lane(0)), lane0(shadow_origin),
+                   lane0(normalize<P>(broadcast(light_position) - shadow_origin)));
+}
+
+[[gnu::cold]] inline void record_light_facing_away(RayTree& tree, int node, vfloat4 lambert) {
+    if (node >= 0) {
+        tree.add_light_facing_away(node, static_cast<double>(lambert.lane(0)));
+    }
+}
+
+[[gnu::cold]] inline void record_local_color(RayTree& tree, int node, const Vec3x4& color) {
+    if (node >= 0) {
+        tree.set_local_color(node, lane0(color));
+    }
+}
+
+[[gnu::cold]] inline void record_total_color(RayTree& tree, int node, const Vec3x4& color) {
+    if (node >= 0) {
+        tree.set_total_color(node, lane0(color));
+    }
+}
+
+}  // namespace twinray::sse

@@ -1,0 +1,188 @@
+// Whitted shading of four rays at once: materials, lights and shadows, Phong, reflection and Snell's
+// refraction, secondary rays continuing as packets under a mask of the lanes that spawn them. Only the SSE
+// tracer's own translation units (built with -msse4.1) include this.
+#pragma once
+
+#include "sse/nearest_hit.h"
+#include "sse/ray_tree_recording.h"
+#include "sse/shadow.h"
+
+#include <cmath>
+
+namespace twinray::sse {
+
+// The material of each lane's hit, gathered once per hit.
+struct Material4 {
+    Vec3x4 color;
+    vfloat4 ambient, diffuse, phong, phong_size, reflection, transmission, ior;
+};
+
+inline vfloat4 from_lanes(const float lanes[4]) { return vfloat4(_mm_setr_ps(lanes[0], lanes[1], lanes[2], lanes[3])); }
+
+// The reference's rule (docs/reference-tracer.md): start off the surface on the side the ray leaves to,
+// by the hit's spawn_offset (SurfaceAnchor).
+inline Vec3x4 spawn_origin(const Hit4& hit, const Vec3x4& direction) {
+    vfloat4 side = select(dot<ExactPrecision>(direction, hit.normal) >= vfloat4(0.0f), vfloat4(1.0f), vfloat4(-1.0f));
+    return hit.point + (side * hit.spawn_offset) * hit.normal;
+}
+
+template <typename P>
+class PacketTracer {
+public:
+    explicit PacketTracer(const CompiledScene& scene) : scene_(scene), nearest_hit_(scene), shadow_(scene) {}
+
+    Hit4 intersect(RayPacket& rays, const PrimitiveLists& candidates) const {
+        return nearest_hit_.intersect(rays, candidates);
+    }
+    Hit4 intersect(RayPacket& rays) const { return intersect(rays, scene_.primitives); }
+
+    // `tree`, if given, records lane 0's ray as a `kind` child of node `parent`, and all it spawns.
+    Vec3x4 trace(RayPacket& rays, int depth, std::uint64_t& ray_count, RayTree* tree = nullptr,
+                 RayKind kind = RayKind::primary, int parent = -1) const {
+        return trace(rays, scene_.primitives, depth, ray_count, tree, kind, parent);
+    }
+
+    Vec3x4 trace(RayPacket& rays, const PrimitiveLists& candidates, int depth, std::uint64_t& ray_count,
+                 RayTree* tree = nullptr, RayKind kind = RayKind::primary, int parent = -1) const {
+        ray_count += lane_count(rays.active);
+        Hit4 hit = intersect(rays, candidates);
+        int node = tree != nullptr ? record_ray(*tree, kind, depth, parent, rays, hit) : -1;
+        Vec3x4 background = broadcast(scene_.background);
+        if (none(hit.hit)) {
+            if (tree != nullptr) {
+                record_total_color(*tree, node, background);
+            }
+            return background;
+        }
+        Vec3x4 color = select(hit.hit, shade(rays, hit, depth, ray_count, tree, node), background);
+        if (tree != nullptr) {
+            record_total_color(*tree, node, color);
+        }
+        return color;
+    }
+
+private:
+    Material4 gather_material(const Hit4& hit) const {
+        alignas(16) std::int32_t leaf[4];
+        hit.leaf.store(leaf);
+        int lanes = movemask(hit.hit);
+        float values[10][4] = {};
+        for (int lane = 0; lane < 4; ++lane) {
+            if (((lanes >> lane) & 1) == 0) {
+                continue;
+            }
+            const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
+            const Material& m = scene_.materials[static_cast<std::size_t>(info.material)];
+            const float fields[10] = {m.color.x, m.color.y,    m.color.z,    m.ambient,      m.diffuse,
+                                      m.phong,   m.phong_size, m.reflection, m.transmission, m.ior};
+            for (int field = 0; field < 10; ++field) {
+                values[field][lane] = fields[field];
+            }
+        }
+        return {{from_lanes(values[0]), from_lanes(values[1]), from_lanes(values[2])},
+                from_lanes(values[3]),
+                from_lanes(values[4]),
+                from_lanes(values[5]),
+                from_lanes(values[6]),
+                from_lanes(values[7]),
+                from_lanes(values[8]),
+                from_lanes(values[9])};
+    }
+
+    // max(0, R·L)^phong_size per lane; the power is scalar (SSE has none), computed only where needed.
+    static vfloat4 phong_power(vfloat4 cosine, vfloat4 exponent, vbool4 lanes) {
+        alignas(16) float base[4], power[4], result[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        max(vfloat4(0.0f), cosine).store(base);
+        exponent.store(power);
+        int mask = movemask(lanes);
+        for (int lane = 0; lane < 4; ++lane) {
+            if ((mask >> lane) & 1) {
+                result[lane] = std::pow(base[lane], power[lane]);
+            }
+        }
+        return vfloat4::load(result);
+    }
+
+    // I = ambient·C·ambient_light + Σ_lights shadow·(diffuse·C·Lc·(N·L) + phong·Lc·max(0, R·L)^phong_size)
+    //   + reflection·I(reflected) + transmission·I(refracted)          (docs/scene-format.md, "Shading")
+    // `node`: lane 0's ray in `tree`, if recording.
+    Vec3x4 shade(const RayPacket& rays, const Hit4& hit, int depth, std::uint64_t& ray_count, RayTree* tree,
+                 int node) const {
+        Material4 m = gather_material(hit);
+        vfloat4 zero(0.0f);
+        const Vec3x4& direction = rays.direction;
+        Vec3x4 color = m.ambient * (m.color * broadcast(scene_.ambient_light));
+        Vec3x4 mirror = direction - (vfloat4(2.0f) * dot<P>(direction, hit.normal)) * hit.normal;
+        vbool4 has_phong = hit.hit & (m.phong > zero);
+        for (const Light& light : scene_.lights) {
+            Vec3x4 to_light = normalize<P>(broadcast(light.position) - hit.point);
+            vfloat4 lambert = dot<P>(hit.normal, to_light);
+            vbool4 lit = hit.hit & (lambert > zero);
+            if (none(lit)) {
+                if (tree != nullptr) {
+                    record_light_facing_away(*tree, node, lambert);
+                }
+                continue;
+            }
+            ray_count += lane_count(lit);
+            vfloat4 shadow = shadow_(spawn_origin(hit, to_light), light.position, lit);
+            if (tree != nullptr) {
+                record_light<P>(*tree, node, lambert, lit, spawn_origin(hit, to_light), light.position, shadow);
+            }
+            vbool4 reached = lit & (shadow > zero);
+            if (none(reached)) {
+                continue;
+            }
+            Vec3x4 light_color = broadcast(light.color);
+            Vec3x4 diffuse = (m.diffuse * lambert) * (m.color * light_color);
+            vfloat4 highlight = zero;
+            if (any(has_phong & reached)) {
+                highlight = m.phong * phong_power(dot<P>(mirror, to_light), m.phong_size, has_phong & reached);
+            }
+            color = select(reached, color + shadow * (diffuse + highlight * light_color), color);
+        }
+        if (tree != nullptr) {
+            record_local_color(*tree, node, color);
+        }
+        if (depth >= scene_.max_depth) {
+            return color;
+        }
+        vfloat4 reflection = select(hit.hit, m.reflection, zero);
+        vbool4 transparent = hit.hit & (m.transmission > zero);
+        if (scene_.any_transparency && any(transparent)) {
+            vfloat4 eta = select(hit.entering, reciprocal<P>(m.ior), m.ior);
+            vfloat4 cos_incident = -dot<P>(direction, hit.normal);
+            vfloat4 sin2_transmitted = eta * eta * (vfloat4(1.0f) - cos_incident * cos_incident);
+            vbool4 total_internal = transparent & (sin2_transmitted > vfloat4(1.0f));
+            vbool4 refracting = transparent & !total_internal;
+            reflection = reflection + select(total_internal, m.transmission, zero);
+            if (any(refracting)) {
+                vfloat4 cos_transmitted = sqrt(max(vfloat4(1.0f) - sin2_transmitted, zero));
+                Vec3x4 refracted = normalize<P>(eta * direction + (eta * cos_incident - cos_transmitted) * hit.normal);
+                color = color + select(refracting, m.transmission, zero) * trace_secondary(hit, refracted, refracting,
+                                                                                           depth, ray_count, tree,
+                                                                                           RayKind::refracted, node);
+            }
+        }
+        vbool4 reflecting = reflection > zero;
+        if (any(reflecting)) {
+            color = color + reflection * trace_secondary(hit, mirror, reflecting, depth, ray_count, tree,
+                                                         RayKind::reflected, node);
+        }
+        return color;
+    }
+
+    Vec3x4 trace_secondary(const Hit4& hit, const Vec3x4& direction, vbool4 lanes, int depth, std::uint64_t& ray_count,
+                           RayTree* tree, RayKind kind, int parent) const {
+        Vec3x4 origin = spawn_origin(hit, direction);
+        RayPacket rays(origin, direction, lanes);
+        Vec3x4 color = trace(rays, depth + 1, ray_count, tree, kind, parent);
+        return select(lanes, color, Vec3x4{});
+    }
+
+    const CompiledScene& scene_;
+    NearestHit<P> nearest_hit_;
+    ShadowTransmittance<P> shadow_;
+};
+
+}  // namespace twinray::sse

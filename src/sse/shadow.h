@@ -1,0 +1,95 @@
+// Shadow rays of four lanes at once: the share of a light that reaches each lane's surface point. Only
+// the SSE tracer's own translation units (built with -msse4.1) include this.
+#pragma once
+
+#include "sse/nearest_hit.h"
+
+namespace twinray::sse {
+
+// Model only what the scene requires: without transparent materials a shadow ray stops at its first
+// blocker (any crossing at all closes the lane); with them, transmissions multiply along the ray.
+template <typename P>
+class ShadowTransmittance {
+public:
+    explicit ShadowTransmittance(const CompiledScene& scene) : scene_(scene) {}
+
+    // Per lane, the product of the transmission of every surface crossed strictly between origin and
+    // light; lanes outside `lanes` get 0.
+    vfloat4 operator()(const Vec3x4& origin, Vec3 light_position, vbool4 lanes) const {
+        Vec3x4 to_light = broadcast(light_position) - origin;
+        vfloat4 squared_distance = dot<P>(to_light, to_light);
+        vfloat4 inverse_distance = inverse_sqrt<P>(squared_distance);
+        vfloat4 distance = P::fast_rsqrt ? squared_distance * inverse_distance : sqrt(squared_distance);
+        Vec3x4 direction = inverse_distance * to_light;
+        RayPacket rays(origin, direction, lanes);
+        if (scene_.any_inverse_direction) {
+            rays.template compute_inverse_direction<P>();
+        }
+        vfloat4 zero(0.0f), one(1.0f);
+        vfloat4 transmittance = select(lanes, one, zero);
+        vbool4 open = lanes;  // lanes not yet fully blocked
+        auto crossings_between = [&](const Span4& span, vbool4& enter_between, vbool4& exit_between) {
+            enter_between = span.valid & (span.enter > zero) & (span.enter < distance);
+            exit_between = span.valid & (span.exit > zero) & (span.exit < distance);
+        };
+        if (!scene_.any_transparency) {
+            for_each_span<P>(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float) {
+                if (none(open)) {
+                    return;
+                }
+                vbool4 enter_between, exit_between;
+                crossings_between(span, enter_between, exit_between);
+                open = open & !(enter_between | exit_between);
+            });
+        } else {
+            for_each_span<P>(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float transmission) {
+                vbool4 enter_between, exit_between;
+                crossings_between(span, enter_between, exit_between);
+                vfloat4 surface(transmission);
+                transmittance =
+                    transmittance * select(enter_between, surface, one) * select(exit_between, surface, one);
+            });
+            open = open & (transmittance > zero);
+        }
+        transmittance = select(open, transmittance, zero);
+        if (scene_.csg_objects.empty() || none(open)) {
+            return transmittance;
+        }
+        alignas(16) float product[4];
+        transmittance.store(product);
+        for (const CsgObject& object : scene_.csg_objects) {
+            int met = lanes_meeting_bound<P>(object, rays, distance) & movemask(open);
+            if (met == 0) {
+                continue;
+            }
+            CsgEvaluation<P> evaluation(object, rays);
+            alignas(16) float limit[4];
+            distance.store(limit);
+            for (int lane = 0; lane < 4; ++lane) {
+                if (((met >> lane) & 1) == 0 || product[lane] == 0.0f) {
+                    continue;
+                }
+                SpanArray spans;
+                evaluation.evaluate(lane, spans);
+                for (int i = 0; i < spans.count; ++i) {
+                    for (const Crossing* crossing : {&spans.enter[i], &spans.exit[i]}) {
+                        if (crossing->leaf >= 0 && crossing->t > 0.0f && crossing->t < limit[lane]) {
+                            product[lane] *= material_transmission(crossing->leaf);
+                        }
+                    }
+                }
+            }
+        }
+        return vfloat4::load(product);
+    }
+
+private:
+    float material_transmission(std::int32_t leaf) const {
+        const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf)];
+        return scene_.materials[static_cast<std::size_t>(info.material)].transmission;
+    }
+
+    const CompiledScene& scene_;
+};
+
+}  // namespace twinray::sse
