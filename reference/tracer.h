@@ -3,12 +3,12 @@
 // code in single precision, isolating the cost of precision from the cost of SIMD.
 #pragma once
 
+#include "math/camera.h"
 #include "reference/box.h"
 #include "reference/cylinder.h"
 #include "reference/plane.h"
 #include "reference/ray.h"
 #include "reference/sphere.h"
-#include "math/camera.h"
 #include "render/ray_tree.h"
 #include "render/render.h"
 #include "scene/scene.h"

@@ -177,7 +177,8 @@ TEST_F(AlignmentTest, EveryRecordOfEveryCompiledSceneIsReadWithAlignedLoads) {
         records += load_every_group(copy);
         // Lists grown one record at a time, as the tile culling fills its per-thread lists.
         PrimitiveLists grown;
-        compiled.primitives.for_each_pair(grown, [](const auto& all, auto& one_by_one) { grow_one_by_one(all, one_by_one); });
+        compiled.primitives.for_each_pair(grown,
+                                          [](const auto& all, auto& one_by_one) { grow_one_by_one(all, one_by_one); });
         records += load_every_group(grown);
     }
     EXPECT_GT(records, 100u) << "the scenes should hold records of every kind";

@@ -5,6 +5,7 @@
 // only inside a band |δ| ≤ δ_band that the test states and prints; outside it t and the normal stay
 // within their bounds.
 #include "numerics/numerics.h"
+#include "scene/geometry.h"
 #include "tests/extremes.h"
 #include "tests/scene_builder.h"
 
@@ -43,7 +44,7 @@ Vec3d as_held(Vec3d v, TracerKind kind) {
     if (kind == TracerKind::reference_double) {
         return v;
     }
-    return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+    return twinray::scene::rounded_to_float(v);
 }
 
 struct Truth {

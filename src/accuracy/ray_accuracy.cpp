@@ -80,7 +80,8 @@ double angle_between(RefVec a, RefVec b) {
 }
 
 double largest_coordinate(const scene::Scene& scene) {
-    double largest = std::max(scene::largest_coordinate(scene.camera.eye), scene::largest_coordinate(scene.camera.look_at));
+    double largest =
+        std::max(scene::largest_coordinate(scene.camera.eye), scene::largest_coordinate(scene.camera.look_at));
     for (const scene::Object& object : scene.objects) {
         largest = std::max(largest, scene::largest_coordinate(object));
     }
@@ -89,10 +90,9 @@ double largest_coordinate(const scene::Scene& scene) {
 
 RefRay reference_ray_at(const scene::Scene& scene, double px, double py, int width, int height) {
     using reference::Vec3;
-    math::CameraBasis<double> camera =
-        math::camera_basis(Vec3<double>(scene.camera.eye), Vec3<double>(scene.camera.look_at),
-                           Vec3<double>(scene.camera.up), scene.camera.fov_deg,
-                           [](Vec3<double> v) { return reference::normalize(v); });
+    math::CameraBasis<double> camera = math::camera_basis(
+        Vec3<double>(scene.camera.eye), Vec3<double>(scene.camera.look_at), Vec3<double>(scene.camera.up),
+        scene.camera.fov_deg, [](Vec3<double> v) { return reference::normalize(v); });
     double half_height = camera.half_width * height / width;
     double u = (2.0 * px / width - 1.0) * camera.half_width;
     double v = (1.0 - 2.0 * py / height) * half_height;

@@ -17,8 +17,8 @@ struct Vec3 {
     constexpr Vec3(T x_, T y_, T z_) : x(x_), y(y_), z(z_) {}
     // Between precisions: each component rounded once.
     template <typename U>
-        requires(std::is_arithmetic_v<T> && std::is_arithmetic_v<U> && !std::is_same_v<T, U>)
-    constexpr explicit Vec3(const Vec3<U>& v)
+    requires(std::is_arithmetic_v<T>&& std::is_arithmetic_v<U> &&
+             !std::is_same_v<T, U>) constexpr explicit Vec3(const Vec3<U>& v)
         : x(static_cast<T>(v.x)), y(static_cast<T>(v.y)), z(static_cast<T>(v.z)) {}
 
     constexpr T& operator[](int axis) { return axis == 0 ? x : axis == 1 ? y : z; }
@@ -33,9 +33,7 @@ struct Vec3 {
     // Component-wise: colour times colour.
     friend constexpr Vec3 operator*(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
     constexpr Vec3& operator+=(const Vec3& b) { return *this = *this + b; }
-    friend constexpr bool operator==(const Vec3& a, const Vec3& b)
-        requires std::is_arithmetic_v<T>
-    {
+    friend constexpr bool operator==(const Vec3& a, const Vec3& b) requires std::is_arithmetic_v<T> {
         return a.x == b.x && a.y == b.y && a.z == b.z;
     }
 };

@@ -17,7 +17,9 @@ using Point = math::Vec3<Real>;
 
 constexpr Real infinity = std::numeric_limits<Real>::infinity();
 
-Point to_point(const Vec3d& v) { return Point(v); }
+Point to_point(const Vec3d& v) {
+    return Point(v);
+}
 
 Vec3d unit(const Point& v) {
     Real l = math::length(v);
@@ -47,7 +49,9 @@ ExactSpan span_of(const scene::Plane& plane, const Point& o, const Point& d) {
     Real t = height / approach;
     return approach > 0 ? ExactSpan{true, -infinity, t} : ExactSpan{true, t, infinity};
 }
-Vec3d normal_at(const scene::Plane& plane, const Point&) { return unit(to_point(plane.normal)); }
+Vec3d normal_at(const scene::Plane& plane, const Point&) {
+    return unit(to_point(plane.normal));
+}
 Real distance_to(const scene::Plane& plane, const Point& p) {
     Point n = to_point(plane.normal);
     return std::fabs(math::dot(n, p) / math::length(n) - plane.offset);
@@ -61,7 +65,9 @@ ExactSpan span_of(const scene::Sphere& sphere, const Point& o, const Point& d) {
     roots(math::dot(d, d), math::dot(f, d), math::dot(f, f) - Real(sphere.radius) * sphere.radius, span);
     return span;
 }
-Vec3d normal_at(const scene::Sphere& sphere, const Point& p) { return unit(p - to_point(sphere.center)); }
+Vec3d normal_at(const scene::Sphere& sphere, const Point& p) {
+    return unit(p - to_point(sphere.center));
+}
 Real distance_to(const scene::Sphere& sphere, const Point& p) {
     return std::fabs(math::length(p - to_point(sphere.center)) - sphere.radius);
 }
@@ -189,7 +195,8 @@ ExactSpan exact_span(const scene::Object& primitive, const Vec3d& origin, const 
 }
 
 Vec3d exact_normal(const scene::Object& primitive, const Vec3d& point) {
-    return on_primitive(primitive, [&](const auto& shape) { return normal_at(shape, to_point(point)); }, Vec3d{});
+    return on_primitive(
+        primitive, [&](const auto& shape) { return normal_at(shape, to_point(point)); }, Vec3d{});
 }
 
 long double distance_to_surface(const scene::Object& primitive, const Vec3d& point) {

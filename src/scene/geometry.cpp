@@ -16,6 +16,10 @@ Bounds merged(const Bounds& a, const Bounds& b, bool intersect) {
 
 }  // namespace
 
+[[gnu::noinline]] double rounded_to_float(double value) {
+    return static_cast<float>(value);
+}
+
 Bounds bounds(const Object& object) {
     return std::visit(
         [](const auto& shape) {

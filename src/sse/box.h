@@ -20,12 +20,18 @@ struct BoxSurface {
     Vec3 max;
 };
 
-inline BoxShape make_shape(const scene::Box& box) { return {broadcast(Vec3(box.min)), broadcast(Vec3(box.max))}; }
+inline BoxShape make_shape(const scene::Box& box) {
+    return {broadcast(Vec3(box.min)), broadcast(Vec3(box.max))};
+}
 
-inline BoxSurface make_surface(const scene::Box& box) { return {Vec3(box.min), Vec3(box.max)}; }
+inline BoxSurface make_surface(const scene::Box& box) {
+    return {Vec3(box.min), Vec3(box.max)};
+}
 
 // Face code: 2·axis + 1 where the outward normal is +axis, 2·axis where it is −axis.
-constexpr int box_face(int axis, bool positive) { return 2 * axis + (positive ? 1 : 0); }
+constexpr int box_face(int axis, bool positive) {
+    return 2 * axis + (positive ? 1 : 0);
+}
 
 // Slabs, as in the reference (reference/box.h): per axis the line is between the two face planes for
 // t in [near, far]; the entering face is the axis of the largest near, the leaving face that of the
@@ -54,10 +60,10 @@ TWINRAY_KERNEL Span4 span_of(const BoxShape& box, const RayPacket& rays) {
         vbool4 farther_face = far < span.exit;
         span.enter = select(nearer_face, near, span.enter);
         span.exit = select(farther_face, far, span.exit);
-        span.enter_face = select(nearer_face, select(forward, vint4(box_face(axis, false)), vint4(box_face(axis, true))),
-                                 span.enter_face);
-        span.exit_face = select(farther_face, select(forward, vint4(box_face(axis, true)), vint4(box_face(axis, false))),
-                                span.exit_face);
+        span.enter_face = select(
+            nearer_face, select(forward, vint4(box_face(axis, false)), vint4(box_face(axis, true))), span.enter_face);
+        span.exit_face = select(
+            farther_face, select(forward, vint4(box_face(axis, true)), vint4(box_face(axis, false))), span.exit_face);
     }
     span.valid = span.valid & (span.enter <= span.exit);
     return span;

@@ -67,7 +67,8 @@ public:
             double inward = math::dot(normals[i], centre) < 0 ? -1.0 : 1.0;
             normals[i] = (inward / length) * normals[i];
         }
-        scene_.primitives.for_each_pair(visible, [&](const auto& all, auto& kept) { keep_visible(all, normals, kept); });
+        scene_.primitives.for_each_pair(visible,
+                                        [&](const auto& all, auto& kept) { keep_visible(all, normals, kept); });
     }
 
 private:

@@ -106,6 +106,8 @@ private:
 
 }  // namespace
 
-CompiledScene compile(const scene::Scene& scene) { return Compiler(scene).run(); }
+CompiledScene compile(const scene::Scene& scene) {
+    return Compiler(scene).run();
+}
 
 }  // namespace twinray::sse

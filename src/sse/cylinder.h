@@ -41,13 +41,11 @@ inline CylinderShape make_shape(const scene::Cylinder& cylinder) {
     scene::BoundingSphere bound = scene::bounding_sphere(cylinder);
     const scene::Vec3& middle = bound.center;
     double widened =
-        bound.radius + 1e-4 * (bound.radius + std::max({std::fabs(middle[0]), std::fabs(middle[1]), std::fabs(middle[2])}));
-    return {broadcast(surface.base),
-            broadcast(surface.axis),
-            vfloat4(surface.height),
-            vfloat4(surface.radius * surface.radius),
-            broadcast(Vec3(middle)),
-            vfloat4(static_cast<float>(widened * widened))};
+        bound.radius +
+        1e-4 * (bound.radius + std::max({std::fabs(middle[0]), std::fabs(middle[1]), std::fabs(middle[2])}));
+    return {broadcast(surface.base), broadcast(surface.axis),
+            vfloat4(surface.height), vfloat4(surface.radius * surface.radius),
+            broadcast(Vec3(middle)), vfloat4(static_cast<float>(widened * widened))};
 }
 
 // Face codes.

@@ -43,8 +43,7 @@ TWINRAY_KERNEL Span4 span_of(const PlaneShape& plane, const RayPacket& rays) {
     return span;
 }
 
-inline Vec3 outward_normal(const PlaneSurface& plane, std::int32_t /*face*/, Vec3 /*point*/,
-                           bool& needs_normalizing) {
+inline Vec3 outward_normal(const PlaneSurface& plane, std::int32_t /*face*/, Vec3 /*point*/, bool& needs_normalizing) {
     needs_normalizing = false;
     return plane.normal;
 }

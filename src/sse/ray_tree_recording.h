@@ -8,7 +8,9 @@
 
 namespace twinray::sse {
 
-inline Vec3d lane0(const Vec3x4& v) { return recorded(lane(v, 0)); }
+inline Vec3d lane0(const Vec3x4& v) {
+    return recorded(lane(v, 0));
+}
 
 // The node of lane 0's ray, or -1 when lane 0 is not active (then nothing below it is recorded).
 [[gnu::cold]] inline int record_ray(RayTree& tree, RayKind kind, int depth, int parent, const RayPacket& rays,

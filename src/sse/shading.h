@@ -17,7 +17,9 @@ struct Material4 {
     vfloat4 ambient, diffuse, phong, phong_size, reflection, transmission, ior;
 };
 
-inline vfloat4 from_lanes(const float lanes[4]) { return vfloat4(_mm_setr_ps(lanes[0], lanes[1], lanes[2], lanes[3])); }
+inline vfloat4 from_lanes(const float lanes[4]) {
+    return vfloat4(_mm_setr_ps(lanes[0], lanes[1], lanes[2], lanes[3]));
+}
 
 // The reference's rule (docs/reference-tracer.md): start off the surface on the side the ray leaves to,
 // by the hit's spawn_offset (SurfaceAnchor).

@@ -150,13 +150,21 @@ inline vint4 select(vbool4 mask, vint4 a, vint4 b) {
 // scalar twins, lane by lane. Dot products go through the precision policy (dot in precision.h).
 using Vec3x4 = math::Vec3<vfloat4>;
 
-inline Vec3x4 broadcast(const math::Vec3<float>& v) { return {vfloat4(v.x), vfloat4(v.y), vfloat4(v.z)}; }
+inline Vec3x4 broadcast(const math::Vec3<float>& v) {
+    return {vfloat4(v.x), vfloat4(v.y), vfloat4(v.z)};
+}
 inline Vec3x4 select(vbool4 mask, const Vec3x4& a, const Vec3x4& b) {
     return {select(mask, a.x, b.x), select(mask, a.y, b.y), select(mask, a.z, b.z)};
 }
-inline Vec3x4 abs(const Vec3x4& a) { return {abs(a.x), abs(a.y), abs(a.z)}; }
-inline vfloat4 max_abs_component(const Vec3x4& a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
+inline Vec3x4 abs(const Vec3x4& a) {
+    return {abs(a.x), abs(a.y), abs(a.z)};
+}
+inline vfloat4 max_abs_component(const Vec3x4& a) {
+    return max(abs(a.x), max(abs(a.y), abs(a.z)));
+}
 // Lane `i` of each component, as a scalar vector.
-inline math::Vec3<float> lane(const Vec3x4& v, int i) { return {v.x.lane(i), v.y.lane(i), v.z.lane(i)}; }
+inline math::Vec3<float> lane(const Vec3x4& v, int i) {
+    return {v.x.lane(i), v.y.lane(i), v.z.lane(i)};
+}
 
 }  // namespace twinray::sse

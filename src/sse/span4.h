@@ -76,6 +76,8 @@ struct SurfaceAnchor {
 // A kernel that divides by the ray's direction declares `uses_inverse_direction` (box.h): scenes
 // without one never compute the reciprocal.
 template <typename Shape>
-constexpr bool uses_inverse_direction = requires { Shape::uses_inverse_direction; };
+constexpr bool uses_inverse_direction = requires {
+    Shape::uses_inverse_direction;
+};
 
 }  // namespace twinray::sse

@@ -82,7 +82,9 @@ Tracer::Tracer(const scene::Scene& scene, const Precision& precision)
 
 Tracer::~Tracer() = default;
 
-bool is_traceable(const Ray& ray) { return math::is_traceable(ray.origin, ray.direction); }
+bool is_traceable(const Ray& ray) {
+    return math::is_traceable(ray.origin, ray.direction);
+}
 
 std::optional<Hit> Tracer::intersect(const Ray& ray) const {
     if (!is_traceable(ray)) {
