@@ -1,4 +1,4 @@
-// The scene loader against the contract (SCENES.md): every refusal rule has a malformed file that breaks
+// The scene loader against the contract (docs/scene-format.md): every refusal rule has a malformed file that breaks
 // it and nothing else, every shipped scene loads, and the values the loader fills in (defaults, the
 // normalised plane normal, material inheritance, leaf numbering, the image size) are the documented ones.
 #include "scene/loader.h"

@@ -126,7 +126,7 @@ std::vector<int> reference_object_ids(const RefTracer& tracer, int width, int he
 // reflection. Where it changes from one pixel to the next the image has a step (a silhouette seen
 // directly, in a reflection or through glass, a shadow's edge, the edge of total internal reflection),
 // which one ray per pixel samples somewhere in the pixel: a tiny difference in where either tracer
-// puts it is a full-size difference there. Directions follow SCENES.md (mirror, Snell).
+// puts it is a full-size difference there. Directions follow docs/scene-format.md (mirror, Snell).
 class RayTreeSignature {
 public:
     RayTreeSignature(const twinray::scene::Scene& scene, const RefTracer& tracer) : scene_(scene), tracer_(tracer) {}

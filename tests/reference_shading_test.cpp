@@ -1,7 +1,7 @@
-// Tracer<double>::trace against pixels worked out by hand from SCENES.md's "Shading" formula
+// Tracer<double>::trace against pixels worked out by hand from docs/scene-format.md's "Shading" formula
 //   I = ambient·C·ambient_light + Σ unblocked lights (diffuse·C·Lc·max(0,N·L) + phong·Lc·max(0,R·L)^size)
 //     + reflection·I(reflected) + transmission·I(refracted),
-// and primary_ray against the camera paragraph of SCENES.md. Each expected colour is built in the test
+// and primary_ray against the camera paragraph of docs/scene-format.md. Each expected colour is built in the test
 // from the geometry (N, L, R, Snell's law), never by calling the tracer's own helpers.
 #include "reference/tracer.h"
 #include "tests/scene_builder.h"

@@ -19,7 +19,7 @@ public:
 bool is_supported_image_path(const std::filesystem::path& path);
 void write_image(const Image& image, const std::filesystem::path& path);
 
-// The 8-bit value stored in a PNG for a linear colour component (SCENES.md).
+// The 8-bit value stored in a PNG for a linear colour component (docs/scene-format.md).
 unsigned char quantize_8bit(float value);
 
 }  // namespace twinray

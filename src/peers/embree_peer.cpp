@@ -129,6 +129,26 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
     }
 }
 
+// Each primitive as Embree holds it: spheres natively, planes and boxes as quads, cylinders as user
+// geometry intersected by the reference's formula. Anything else (CSG, a primitive the peer has not
+// learnt) is refused.
+void add_to_peer(const scene::Sphere& sphere, int, std::vector<float>& spheres, Quads&, UserGeometry&) {
+    for (double v : {sphere.center[0], sphere.center[1], sphere.center[2], sphere.radius}) {
+        spheres.push_back(static_cast<float>(v));
+    }
+}
+void add_to_peer(const scene::Plane& plane, int, std::vector<float>&, Quads& quads, UserGeometry&) {
+    add_plane(plane, quads);
+}
+void add_to_peer(const scene::Box& box, int, std::vector<float>&, Quads& quads, UserGeometry&) { add_box(box, quads); }
+void add_to_peer(const scene::Cylinder& cylinder, int leaf, std::vector<float>&, Quads&, UserGeometry& user) {
+    user.shapes.push_back(reference::make_shape<float>(cylinder, leaf));
+}
+template <typename Unsupported>
+void add_to_peer(const Unsupported&, int, std::vector<float>&, Quads&, UserGeometry&) {
+    throw std::runtime_error("Embree peer: scenes with CSG are not supported");
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -165,22 +185,8 @@ EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) : state_(std::make_
     }
     s.scene = rtcNewScene(s.device);
     for (const scene::Object& object : scene.objects) {
-        if (const auto* sphere = std::get_if<scene::Sphere>(&object.shape)) {
-            for (double v : {sphere->center[0], sphere->center[1], sphere->center[2], sphere->radius}) {
-                s.spheres.push_back(static_cast<float>(v));
-            }
-        } else if (const auto* plane = std::get_if<scene::Plane>(&object.shape)) {
-            add_plane(*plane, s.quads);
-        } else if (const auto* cylinder = std::get_if<scene::Cylinder>(&object.shape)) {
-            reference::Vec3<float> base(cylinder->base);
-            reference::Vec3<float> along = FloatVec(cylinder->cap) - base;
-            s.user.shapes.push_back(reference::CylinderShape<float>{base, normalize(along), length(along),
-                                                                    static_cast<float>(cylinder->radius), object.leaf});
-        } else if (const auto* box = std::get_if<scene::Box>(&object.shape)) {
-            add_box(*box, s.quads);
-        } else {
-            throw std::runtime_error("Embree peer: scenes with CSG are not supported");
-        }
+        std::visit([&](const auto& shape) { add_to_peer(shape, object.leaf, s.spheres, s.quads, s.user); },
+                   object.shape);
     }
     if (!s.spheres.empty()) {
         RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);

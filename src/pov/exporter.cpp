@@ -256,7 +256,7 @@ private:
         std::visit(
             [&](const auto& shape) {
                 using S = std::decay_t<decltype(shape)>;
-                if constexpr (std::is_same_v<S, scene::Csg>) {
+                if constexpr (!scene::is_primitive<S>) {
                     line(indent, std::string(csg_keyword(shape.op)) + " {");
                     for (const scene::Object& child : shape.children) {
                         write_object(child, indent + 1, pass);

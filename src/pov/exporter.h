@@ -1,5 +1,5 @@
 // The POV-Ray 3.7 exporter: a scene of ours as a .pov file that makes POV-Ray compute the shading model
-// of SCENES.md, so that a mature tracer nobody here wrote can judge ours (docs/povray.md says how each
+// of docs/scene-format.md, so that a mature tracer nobody here wrote can judge ours (docs/povray.md says how each
 // setting is chosen and which residual differences remain).
 #pragma once
 
