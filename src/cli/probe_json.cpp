@@ -1,0 +1,163 @@
+#include "cli/probe_json.h"
+
+#include <cstddef>
+
+namespace twinray::cli::probe {
+namespace {
+
+Json to_json(const Vec3d& v) {
+    return Json::array({v[0], v[1], v[2]});
+}
+
+Json first_hit_json(const scene::Scene& scene, const RayTree& tree) {
+    if (tree.nodes.empty() || !tree.nodes.front().hit) {
+        return Json{{"hit", false}};
+    }
+    const RayNode& node = tree.nodes.front();
+    return Json{{"hit", true},
+                {"t", node.t},
+                {"point", to_json(node.point)},
+                {"normal", to_json(node.normal)},
+                {"object", object_name(scene, node.leaf)},
+                {"material", material_name(scene, node.leaf)},
+                {"entering", node.entering}};
+}
+
+Json light_json(const LightVisibility& light, std::size_t index) {
+    Json json{{"light", "lights[" + std::to_string(index) + "]"},
+              {"n_dot_l", light.n_dot_l},
+              {"faces_away", light.faces_away}};
+    if (!light.faces_away) {
+        json["transmittance"] = light.transmittance;
+        json["shadow_origin"] = to_json(light.shadow_origin);
+        json["shadow_direction"] = to_json(light.shadow_direction);
+    }
+    return json;
+}
+
+Json node_json(const scene::Scene& scene, const RayTree& tree, int index) {
+    const RayNode& node = tree.nodes[static_cast<std::size_t>(index)];
+    Json json{{"index", index},        {"kind", ray_kind_name(node.kind)}, {"depth", node.depth},
+              {"parent", node.parent}, {"origin", to_json(node.origin)},   {"direction", to_json(node.direction)},
+              {"hit", node.hit}};
+    if (node.hit) {
+        json["object"] = object_name(scene, node.leaf);
+        json["material"] = material_name(scene, node.leaf);
+        json["t"] = node.t;
+        json["point"] = to_json(node.point);
+        json["normal"] = to_json(node.normal);
+        json["entering"] = node.entering;
+        Json lights = Json::array();
+        for (std::size_t l = 0; l < node.lights.size(); ++l) {
+            lights.push_back(light_json(node.lights[l], l));
+        }
+        json["lights"] = lights;
+    }
+    json["local"] = to_json(node.local);
+    json["total"] = to_json(node.total);
+    Json children = Json::array();
+    for (int child : tree.children(index)) {
+        children.push_back(child);
+    }
+    json["children"] = children;
+    return json;
+}
+
+Json tracer_json(const scene::Scene& scene, const TracedTree& traced) {
+    Json nodes = Json::array();
+    for (std::size_t i = 0; i < traced.tree.nodes.size(); ++i) {
+        nodes.push_back(node_json(scene, traced.tree, static_cast<int>(i)));
+    }
+    return Json{{"tracer", traced.label},
+                {"hit", first_hit_json(scene, traced.tree)},
+                {"color", traced.tree.nodes.empty() ? Json() : to_json(traced.tree.nodes.front().total)},
+                {"tree", nodes}};
+}
+
+// The value a divergence is about, for one node.
+Json divergence_value(const scene::Scene& scene, const RayNode* node, const std::string& what) {
+    if (node == nullptr) {
+        return nullptr;
+    }
+    if (what == "origin")
+        return to_json(node->origin);
+    if (what == "direction")
+        return to_json(node->direction);
+    if (what == "hit")
+        return node->hit;
+    if (what == "object")
+        return node->hit ? Json(object_name(scene, node->leaf)) : Json();
+    if (what == "entering")
+        return node->entering;
+    if (what == "t")
+        return node->t;
+    if (what == "normal")
+        return to_json(node->normal);
+    if (what == "local colour")
+        return to_json(node->local);
+    if (what == "total colour")
+        return to_json(node->total);
+    if (what == "ray")
+        return ray_kind_name(node->kind);
+    if (what.rfind("lights[", 0) == 0) {
+        std::size_t light = static_cast<std::size_t>(std::stoi(what.substr(7)));
+        return light < node->lights.size() ? light_json(node->lights[light], light) : Json();
+    }
+    return nullptr;
+}
+
+Json divergence_json(const scene::Scene& scene, const Divergence& d, const RayTree& a, const RayTree& b) {
+    const RayNode* p = node_at(&a, d.first);
+    const RayNode* q = node_at(&b, d.second);
+    const RayNode& any = p != nullptr ? *p : *q;
+    Json json{{"reference_node", d.first},
+              {"sse_node", d.second},
+              {"depth", any.depth},
+              {"kind", ray_kind_name(any.kind)},
+              {"what", d.what}};
+    if (d.threshold > 0) {
+        json["amount"] = d.amount;
+        json["threshold"] = d.threshold;
+    }
+    json["reference"] = divergence_value(scene, p, d.what);
+    json["sse"] = divergence_value(scene, q, d.what);
+    return json;
+}
+
+}  // namespace
+
+Json report_json(const scene::Scene& scene, const std::string& scene_path, const Target& target,
+                 const Findings& findings) {
+    Json json{{"scene", scene_path}};
+    if (target.is_pixel) {
+        json["pixel"] = {target.x, target.y};
+        json["image_size"] = {target.width, target.height};
+    } else {
+        json["ray"] = {{"origin", to_json(target.origin)}, {"direction", to_json(target.direction)}};
+    }
+    // Keyed like a divergence's "what" (a light's is "transmittance"); t: |dt|·|cos θ| over S.
+    const DivergenceThresholds& limits = findings.limits;
+    json["thresholds"] = {{"origin", limits.position},
+                          {"direction", limits.angle},
+                          {"t", limits.position},
+                          {"normal", limits.angle},
+                          {"transmittance", limits.transmittance},
+                          {"local colour", limits.color},
+                          {"total colour", limits.color}};
+    json["reference"] = tracer_json(scene, findings.reference);
+    json["sse"] = findings.sse ? tracer_json(scene, *findings.sse) : Json();
+    if (!findings.sse) {
+        json["sse_unavailable"] = findings.sse_note;
+    }
+    Json all = Json::array();
+    if (findings.sse) {
+        for (const Divergence& d : findings.divergences) {
+            all.push_back(divergence_json(scene, d, findings.reference.tree, findings.sse->tree));
+        }
+    }
+    json["divergence"] = findings.divergences.empty() ? Json() : all.front();
+    json["divergences"] = all;
+    return json;
+}
+
+}  // namespace twinray::cli::probe

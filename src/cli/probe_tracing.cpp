@@ -1,0 +1,66 @@
+#include "cli/probe_tracing.h"
+
+#include "reference/tracer.h"
+#include "sse/cpu.h"
+#include "sse/tracer.h"
+
+#include <cstddef>
+
+namespace twinray::cli::probe {
+namespace {
+
+TracedTree trace_reference(const scene::Scene& scene, const Target& target) {
+    using R = reference::Ray<double>;
+    reference::Tracer<double> tracer(scene);
+    R ray = target.is_pixel ? tracer.primary_ray(target.x, target.y, target.width, target.height)
+                            : R{{target.origin[0], target.origin[1], target.origin[2]},
+                                {target.direction[0], target.direction[1], target.direction[2]}};
+    TracedTree traced{"reference<double>", {}};
+    tracer.trace(ray, 1, nullptr, &traced.tree);
+    return traced;
+}
+
+// The ray given by hand reaches the sse tracer rounded to float, its direction normalised in double.
+TracedTree trace_sse(const scene::Scene& scene, const Target& target) {
+    sse::Tracer tracer(scene);
+    auto f = [](double v) { return static_cast<float>(v); };
+    sse::Ray ray = target.is_pixel ? tracer.primary_ray(target.x, target.y, target.width, target.height)
+                                   : sse::Ray{{f(target.origin[0]), f(target.origin[1]), f(target.origin[2])},
+                                              {f(target.direction[0]), f(target.direction[1]), f(target.direction[2])}};
+    TracedTree traced{"sse (float, SSE4.1)", {}};
+    tracer.trace(ray, 1, nullptr, &traced.tree);
+    return traced;
+}
+
+}  // namespace
+
+Findings trace_target(const scene::Scene& scene, const Target& target) {
+    Findings findings{trace_reference(scene, target), std::nullopt, "", {}, {}};
+    if (sse::cpu_supports_sse41()) {
+        findings.sse = trace_sse(scene, target);
+        findings.divergences = find_divergences(findings.reference.tree, findings.sse->tree, findings.limits);
+    } else {
+        findings.sse_note = "sse not run: " + sse::missing_sse41_message();
+    }
+    return findings;
+}
+
+std::string object_name(const scene::Scene& scene, int leaf) {
+    if (leaf < 0 || static_cast<std::size_t>(leaf) >= scene.leaf_paths.size()) {
+        return "leaf " + std::to_string(leaf) + " (unknown)";
+    }
+    return scene.leaf_paths[static_cast<std::size_t>(leaf)];
+}
+
+std::string material_name(const scene::Scene& scene, int leaf) {
+    if (leaf < 0 || static_cast<std::size_t>(leaf) >= scene.leaf_materials.size()) {
+        return "?";
+    }
+    return scene.material_names[static_cast<std::size_t>(scene.leaf_materials[static_cast<std::size_t>(leaf)])];
+}
+
+const RayNode* node_at(const RayTree* tree, int index) {
+    return tree != nullptr && index >= 0 ? &tree->nodes[static_cast<std::size_t>(index)] : nullptr;
+}
+
+}  // namespace twinray::cli::probe
