@@ -140,7 +140,9 @@ void add_to_peer(const scene::Sphere& sphere, int, std::vector<float>& spheres, 
 void add_to_peer(const scene::Plane& plane, int, std::vector<float>&, Quads& quads, UserGeometry&) {
     add_plane(plane, quads);
 }
-void add_to_peer(const scene::Box& box, int, std::vector<float>&, Quads& quads, UserGeometry&) { add_box(box, quads); }
+void add_to_peer(const scene::Box& box, int, std::vector<float>&, Quads& quads, UserGeometry&) {
+    add_box(box, quads);
+}
 void add_to_peer(const scene::Cylinder& cylinder, int leaf, std::vector<float>&, Quads&, UserGeometry& user) {
     user.shapes.push_back(reference::make_shape<float>(cylinder, leaf));
 }
