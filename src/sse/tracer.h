@@ -3,7 +3,7 @@
 // tracer; a single ray runs as a packet with one active lane, bit-identical to the same ray in render.
 //
 // This header is included by code built without -msse4.1 (CLI, tests, bench), so it exposes no
-// intrinsics: the compiled scene lives behind a pointer, defined in tracer.cpp. Call
+// intrinsics: the compiled scene lives behind a pointer (sse/compiled_scene.h, built with -msse4.1). Call
 // cpu_supports_sse41() (sse/cpu.h) before constructing a Tracer.
 #pragma once
 
