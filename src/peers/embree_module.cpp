@@ -1,7 +1,7 @@
-#include "peers/embree_peer.h"
+// The body of libtwinray_embree.so (peers/embree_module.h): the only code linked to Embree 3.
+#include "peers/embree_module.h"
 
 #include "reference/cylinder.h"
-#include "sse/tracer.h"
 
 #include <embree3/rtcore.h>
 
@@ -136,13 +136,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-}  // namespace
-
-std::string embree_unsupported_reason(const scene::Scene& scene) {
-    return scene.has_csg() ? "CSG" : "";
-}
-
-struct EmbreePeer::State {
+struct State {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     UserGeometry user;
@@ -159,8 +153,9 @@ struct EmbreePeer::State {
     }
 };
 
-EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) : state_(std::make_unique<State>()) {
-    State& s = *state_;
+void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, int height) {
+    auto state = std::make_unique<State>();
+    State& s = *state;
     s.device = rtcNewDevice(nullptr);
     if (s.device == nullptr) {
         throw std::runtime_error("Embree: rtcNewDevice failed (error " + std::to_string(rtcGetDeviceError(nullptr)) +
@@ -221,21 +216,18 @@ EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) : state_(std::make_
     if (RTCError error = rtcGetDeviceError(s.device); error != RTC_ERROR_NONE) {
         throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(error) + ")");
     }
-    scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
-    s.width = size.width;
-    s.height = size.height;
-    sse::Tracer camera(scene);
-    for (int y = 0; y < s.height; ++y) {
-        for (int x = 0; x < s.width; ++x) {
-            s.rays.push_back(camera.primary_ray(x, y, s.width, s.height));
-        }
-    }
+    s.width = width;
+    s.height = height;
+    s.rays = std::move(rays);
+    return state.release();
 }
 
-EmbreePeer::~EmbreePeer() = default;
+void destroy(void* state) {
+    delete static_cast<State*>(state);
+}
 
-FirstHitRun EmbreePeer::cast_single() const {
-    const State& s = *state_;
+FirstHitRun cast_single(const void* state) {
+    const State& s = *static_cast<const State*>(state);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     FirstHitRun run;
@@ -263,8 +255,8 @@ FirstHitRun EmbreePeer::cast_single() const {
     return run;
 }
 
-FirstHitRun EmbreePeer::cast_packets() const {
-    const State& s = *state_;
+FirstHitRun cast_packets(const void* state) {
+    const State& s = *static_cast<const State*>(state);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     FirstHitRun run;
@@ -300,4 +292,12 @@ FirstHitRun EmbreePeer::cast_packets() const {
     return run;
 }
 
+const EmbreeFunctions functions{create, destroy, cast_single, cast_packets};
+
+}  // namespace
+
 }  // namespace twinray::peers
+
+extern "C" const twinray::peers::EmbreeFunctions* twinray_embree_functions() {
+    return &twinray::peers::functions;
+}

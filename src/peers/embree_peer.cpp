@@ -1,0 +1,71 @@
+#include "peers/embree_peer.h"
+
+#include "peers/embree_module.h"
+
+#include <dlfcn.h>
+
+#include <stdexcept>
+
+namespace twinray::peers {
+namespace {
+
+// The module's path in this build tree (TWINRAY_EMBREE_MODULE, set by src/cli/CMakeLists.txt).
+const EmbreeFunctions& load_module() {
+    void* module = dlopen(TWINRAY_EMBREE_MODULE, RTLD_LAZY | RTLD_LOCAL);
+    if (!module) {
+        throw std::runtime_error(std::string("cannot load the Embree module: ") + dlerror());
+    }
+    using Entry = const EmbreeFunctions* (*)();
+    auto entry = reinterpret_cast<Entry>(dlsym(module, "twinray_embree_functions"));
+    if (!entry) {
+        throw std::runtime_error(std::string("the Embree module is broken: ") + dlerror());
+    }
+    return *entry();
+}
+
+const EmbreeFunctions& module_functions() {
+    static const EmbreeFunctions& functions = load_module();
+    return functions;
+}
+
+}  // namespace
+
+std::string embree_unsupported_reason(const scene::Scene& scene) {
+    return scene.has_csg() ? "CSG" : "";
+}
+
+struct EmbreePeer::State {
+    State(const EmbreeFunctions& functions, void* scene) : module(functions), embree(scene) {}
+    State(const State&) = delete;
+    State& operator=(const State&) = delete;
+    ~State() { module.destroy(embree); }
+
+    const EmbreeFunctions& module;
+    void* embree;
+};
+
+EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) {
+    const scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
+    const sse::Tracer camera(scene);
+    std::vector<sse::Ray> rays;
+    rays.reserve(static_cast<std::size_t>(size.width) * static_cast<std::size_t>(size.height));
+    for (int y = 0; y < size.height; ++y) {
+        for (int x = 0; x < size.width; ++x) {
+            rays.push_back(camera.primary_ray(x, y, size.width, size.height));
+        }
+    }
+    const EmbreeFunctions& module = module_functions();
+    state_ = std::make_unique<State>(module, module.create(scene, std::move(rays), size.width, size.height));
+}
+
+EmbreePeer::~EmbreePeer() = default;
+
+FirstHitRun EmbreePeer::cast_single() const {
+    return state_->module.cast_single(state_->embree);
+}
+
+FirstHitRun EmbreePeer::cast_packets() const {
+    return state_->module.cast_packets(state_->embree);
+}
+
+}  // namespace twinray::peers
