@@ -45,6 +45,9 @@ void write_exr(const Image& image, std::FILE* stream) {
     static_assert(sizeof(Rgb) == 3 * sizeof(float), "Rgb must be three packed floats for OpenEXR");
     Imf::Header header(image.width(), image.height());
     header.compression() = Imf::ZIP_COMPRESSION;
+    // zlib's fastest level rather than OpenEXR's default 4: 5 ms less of a 320 x 240 render's 40 ms
+    // process here, for a file 2% larger (spheres.exr: 180307 bytes against 176693).
+    header.zipCompressionLevel() = 1;
     Imf::FrameBuffer frame;
     // OpenEXR's slices take a writable pointer but only read from it when writing.
     char* first = reinterpret_cast<char*>(const_cast<Rgb*>(image.pixels().data()));

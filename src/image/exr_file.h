@@ -8,7 +8,7 @@
 
 namespace twinray {
 
-// 32-bit float RGB, unclamped, ZIP-compressed scanlines (what OpenImageIO wrote), into an open stream;
+// 32-bit float RGB, unclamped, ZIP-compressed scanlines (as OpenImageIO wrote them), into an open stream;
 // the caller checks and closes it. Throws std::runtime_error with OpenEXR's or the system's words.
 void write_exr(const Image& image, std::FILE* stream);
 
