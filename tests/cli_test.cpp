@@ -250,6 +250,13 @@ TEST_F(CliTest, BenchWritesItsTablesAsCsvAndMarkdown) {
     std::ifstream markdown(output("bench.md"));
     std::string text((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
     EXPECT_NE(text.find("| spheres | sse rcp |"), std::string::npos) << text;
+    // The whole process has rows of its own: start-up, loading, writing, and the whole command.
+    for (const char* part :
+         {"| (any) | start-up: twinray --help |", "| spheres | load the scene file |", "| spheres | write .png |",
+          "| spheres | write .exr |", "| spheres | whole twinray render --tracer reference"}) {
+        EXPECT_NE(text.find(part), std::string::npos) << part;
+    }
+    EXPECT_TRUE(fs::exists(output("bench-process.csv")));
 }
 
 }  // namespace

@@ -1,22 +1,16 @@
 #include "cli/bench_command.h"
 
 #include "accuracy/ray_accuracy.h"
-#include "cli/bench_table.h"
+#include "cli/bench_run.h"
 #include "cli/exit_codes.h"
 #include "cli/tracers.h"
 #include "compare/image_compare.h"
 #include "io/atomic_file.h"
-#include "pov/exporter.h"
 #include "pov/povray_runner.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
-#include "scene/sphere_field.h"
 #include "sse/tracer.h"
-#if TWINRAY_WITH_EMBREE
-#include "peers/embree_peer.h"
-#endif
 
-#include <unistd.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,52 +23,7 @@
 #include <string>
 #include <vector>
 
-namespace twinray::cli {
-namespace {
-
-namespace fs = std::filesystem;
-
-struct BenchArguments {
-    std::vector<std::string> scenes;
-    int runs = 5;
-    int threads = 0;
-    int width = 640;
-    bool scaling = false;
-    bool peers = true;
-    std::string csv_path;
-    std::string markdown_path;
-};
-
-struct Configuration {
-    std::string label;
-    std::string tracer;
-    sse::Precision precision;
-    int threads = 1;
-};
-
-// Every knob that can buy speed (--precision fast); dpps is the thesis's choice, timed on its own.
-sse::Precision all_fast_knobs() {
-    return {.fast_rcp = true, .fast_rsqrt = true, .textbook_quadratic = true, .flush_denormals = true};
-}
-
-// reference<double> first: every ratio and every error is against it.
-std::vector<Configuration> trade_configurations(int all_threads) {
-    auto sse_with = [](const char* label, sse::Precision precision) {
-        return Configuration{label, "sse", precision, 1};
-    };
-    return {
-        {"ref<double>", "reference", {}, 1},
-        {"ref<float>", "reference-float", {}, 1},
-        sse_with("sse exact", {}),
-        sse_with("sse rcp", {.fast_rcp = true}),
-        sse_with("sse rsqrt", {.fast_rsqrt = true}),
-        sse_with("sse dpps", {.dpps = true}),
-        sse_with("sse textbook", {.textbook_quadratic = true}),
-        sse_with("sse ftz", {.flush_denormals = true}),
-        sse_with("sse fast", all_fast_knobs()),
-        {"sse exact " + std::to_string(all_threads) + "T", "sse", {}, all_threads},
-    };
-}
+namespace twinray::cli::bench {
 
 double median(std::vector<double> values) {
     std::sort(values.begin(), values.end());
@@ -82,18 +31,6 @@ double median(std::vector<double> values) {
     return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
 }
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// Speeds of one configuration over the runs (Mrays/s), its per-run ratios to the first
-// configuration's, and seconds per frame.
-struct Timings {
-    std::vector<double> mrays, speedups, seconds;
-};
-
-// Every configuration renders once per run, in turn, so a slow spell of the shared machine weighs on
-// both sides of a ratio instead of on one column; each ratio is the median of per-run ratios.
 std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene,
                                   int width, int runs, std::vector<Image>* last_images) {
     std::vector<Timings> timings(configurations.size());
@@ -122,6 +59,29 @@ std::vector<Timings> time_renders(const std::vector<Configuration>& configuratio
     return timings;
 }
 
+namespace {
+
+namespace fs = std::filesystem;
+
+// reference<double> first: every ratio and every error is against it.
+std::vector<Configuration> trade_configurations(int all_threads) {
+    auto sse_with = [](const char* label, sse::Precision precision) {
+        return Configuration{label, "sse", precision, 1};
+    };
+    return {
+        {"ref<double>", "reference", {}, 1},
+        {"ref<float>", "reference-float", {}, 1},
+        sse_with("sse exact", {}),
+        sse_with("sse rcp", {.fast_rcp = true}),
+        sse_with("sse rsqrt", {.fast_rsqrt = true}),
+        sse_with("sse dpps", {.dpps = true}),
+        sse_with("sse textbook", {.textbook_quadratic = true}),
+        sse_with("sse ftz", {.flush_denormals = true}),
+        sse_with("sse fast", all_fast_knobs()),
+        {"sse exact " + std::to_string(all_threads) + "T", "sse", {}, all_threads},
+    };
+}
+
 accuracy::RayAccuracy ray_accuracy(const Configuration& configuration, const scene::Scene& scene,
                                    const std::vector<std::optional<accuracy::FirstHit>>& expected, int width,
                                    int height) {
@@ -142,10 +102,6 @@ struct Summary {
     std::vector<double> speedups;
     double image_rms = 0, image_max = 0, over_share = 0, t_p999 = 0, t_max = 0, normal_max = 0;
     long rays = 0, hit_miss = 0;
-};
-
-struct Report {
-    BenchTable trade, summary, povray, first_hit, scaling;
 };
 
 // One scene: timings, then the accuracy of each configuration's last image and of its primary rays.
@@ -208,133 +164,6 @@ void add_summary(const std::vector<Configuration>& configurations, const std::ve
     }
 }
 
-// POV-Ray 3.7 on the same scene exported at the same size: wall time per frame (process start-up
-// included, about 0.7 s of it), one thread and all, against the SSE tracer's frame time.
-void bench_povray(const std::string& name, const scene::Scene& scene, const BenchArguments& arguments,
-                  const fs::path& povray, int all_threads, const std::vector<double>& sse_seconds, Report& report) {
-    scene::ImageSize size = scene::resolve_image_size(scene, arguments.width, 0);
-    fs::path folder = fs::temp_directory_path() / ("twinray-bench-povray-" + std::to_string(::getpid()));
-    fs::create_directories(folder);
-    std::string pov_text = pov::export_pov(scene, size.width, size.height);
-    // The same scene at 1 x 1 pixel: POV-Ray's start-up and parse, the fixed cost inside every frame time.
-    std::string tiny_text = pov::export_pov(scene, 1, 1);
-    std::vector<double> seconds[3];
-    for (int run = 0; run < arguments.runs; ++run) {
-        for (int k = 0; k < 3; ++k) {
-            auto start = std::chrono::steady_clock::now();
-            if (k < 2) {
-                pov::render_with_povray(povray, folder, name, pov_text, size.width, size.height,
-                                        k == 0 ? 1 : all_threads);
-            } else {
-                // Its own file name: OpenImageIO caches images by name, and the size differs.
-                pov::render_with_povray(povray, folder, name + "-1x1", tiny_text, 1, 1, 1);
-            }
-            seconds[k].push_back(seconds_since(start));
-        }
-    }
-    fs::remove_all(folder);
-    double one = median(seconds[0]), all = median(seconds[1]), start_up = median(seconds[2]);
-    report.povray.add_row({name, cell("%.3f", one), cell("%.3f", all), cell("%.3f", start_up),
-                           cell("%.4f", sse_seconds[0]), cell("%.4f", sse_seconds[1]),
-                           cell("%.1f", one / sse_seconds[0]), cell("%.1f", all / sse_seconds[1]),
-                           cell("%.1f", (one - start_up) / sse_seconds[0])});
-}
-
-// First hits of primary rays only: the SSE tracer (exact and --precision fast) against Embree 3.
-void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Report& report) {
-    RenderOptions options;
-    options.width = width;
-    options.threads = 1;
-    std::vector<double> exact, fast;
-    sse::FirstHits hits;
-    for (int run = 0; run < runs; ++run) {
-        auto start = std::chrono::steady_clock::now();
-        hits = sse::cast_primary_rays(scene, options);
-        exact.push_back(static_cast<double>(hits.rays) / seconds_since(start) / 1e6);
-        start = std::chrono::steady_clock::now();
-        sse::FirstHits fast_hits = sse::cast_primary_rays(scene, options, all_fast_knobs());
-        fast.push_back(static_cast<double>(fast_hits.rays) / seconds_since(start) / 1e6);
-    }
-    std::vector<std::string> row = {name, std::to_string(hits.rays), cell("%.2f", median(exact)),
-                                    cell("%.2f", median(fast))};
-#if TWINRAY_WITH_EMBREE
-    if (std::string reason = peers::embree_unsupported_reason(scene); !reason.empty()) {
-        row.insert(row.end(), {"n/a: " + reason, "", "", "", ""});
-    } else
-        try {
-            peers::EmbreePeer embree(scene, width);
-            std::vector<double> single, packets;
-            std::uint64_t embree_hits = 0;
-            for (int run = 0; run < runs; ++run) {
-                peers::FirstHitRun one = embree.cast_single();
-                peers::FirstHitRun four = embree.cast_packets();
-                single.push_back(static_cast<double>(one.rays) / one.seconds / 1e6);
-                packets.push_back(static_cast<double>(four.rays) / four.seconds / 1e6);
-                embree_hits = one.hits;
-            }
-            row.insert(row.end(),
-                       {cell("%.2f", median(single)), cell("%.2f", median(packets)),
-                        cell("%.2f", median(exact) / median(single)), cell("%.2f", median(exact) / median(packets)),
-                        std::to_string(static_cast<long long>(hits.hits) - static_cast<long long>(embree_hits))});
-        } catch (const std::runtime_error& error) {
-            row.insert(row.end(), {std::string("failed: ") + error.what(), "", "", "", ""});
-        }
-#else
-    row.insert(row.end(), {"not built", "", "", "", ""});
-#endif
-    report.first_hit.add_row(row);
-}
-
-// The generated sphere field: time per ray as the scene grows, at a resolution that shrinks with it.
-void bench_scaling(const BenchArguments& arguments, int all_threads, Report& report) {
-    const std::vector<Configuration> configurations = {
-        {"ref<double>", "reference", {}, 1},
-        {"ref<float>", "reference-float", {}, 1},
-        {"sse exact", "sse", {}, 1},
-        {"sse fast", "sse", all_fast_knobs(), 1},
-        {"sse exact " + std::to_string(all_threads) + "T", "sse", {}, all_threads},
-    };
-    report.scaling.headers = {"spheres", "image"};
-    for (const Configuration& configuration : configurations) {
-        report.scaling.headers.push_back(configuration.label + " ns/ray");
-    }
-    report.scaling.headers.push_back("sse first hit ns/ray");
-#if TWINRAY_WITH_EMBREE
-    report.scaling.headers.push_back("embree rtcIntersect1 ns/ray");
-#endif
-    const std::pair<int, int> family[] = {{10, 320}, {100, 320}, {1000, 160}, {10000, 80}};
-    for (auto [count, width] : family) {
-        scene::Scene scene = scene::sphere_field(count);
-        scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
-        std::vector<std::string> row = {std::to_string(count),
-                                        std::to_string(size.width) + "x" + std::to_string(size.height)};
-        for (const Timings& timing : time_renders(configurations, scene, width, arguments.runs, nullptr)) {
-            row.push_back(cell("%.1f", 1e3 / median(timing.mrays)));
-        }
-        RenderOptions options;
-        options.width = width;
-        options.threads = 1;
-        std::vector<double> first_hit;
-        for (int run = 0; run < arguments.runs; ++run) {
-            auto start = std::chrono::steady_clock::now();
-            sse::FirstHits hits = sse::cast_primary_rays(scene, options);
-            first_hit.push_back(seconds_since(start) * 1e9 / static_cast<double>(hits.rays));
-        }
-        row.push_back(cell("%.1f", median(first_hit)));
-#if TWINRAY_WITH_EMBREE
-        peers::EmbreePeer embree(scene, width);
-        std::vector<double> single;
-        for (int run = 0; run < arguments.runs; ++run) {
-            peers::FirstHitRun one = embree.cast_single();
-            single.push_back(one.seconds * 1e9 / static_cast<double>(one.rays));
-        }
-        row.push_back(cell("%.1f", median(single)));
-#endif
-        report.scaling.add_row(row);
-        std::fputs(".", stderr);
-    }
-}
-
 std::vector<std::string> default_scenes() {
     std::vector<std::string> paths;
     if (fs::is_directory("scenes")) {
@@ -362,6 +191,8 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
     report.summary.headers = {"configuration", "speed-up geomean", "speed-up min",     "speed-up max",
                               "img max err",   "img RMS",          "% px > 1/255",     "t rel p99.9",
                               "t rel max",     "normal max deg",   "hit/miss per Mray"};
+    report.process.title = "Whole process: twinray render part by part and as a command (ms, " + setting + ")";
+    report.process.headers = {"scene", "part", "ms"};
     report.povray.title =
         "POV-Ray 3.7 (no antialiasing, wall time per frame incl. start-up) against sse exact, " + setting;
     report.povray.headers = {"scene",
@@ -400,6 +231,8 @@ void write_outputs(const BenchArguments& arguments, const Report& report,
             return csv.parent_path() / (csv.stem().string() + "-" + suffix + csv.extension().string());
         };
         io::write_text_atomically(beside("summary"), to_csv(report.summary));
+        if (!report.process.rows.empty())
+            io::write_text_atomically(beside("process"), to_csv(report.process));
         if (!report.povray.rows.empty())
             io::write_text_atomically(beside("povray"), to_csv(report.povray));
         if (!report.first_hit.rows.empty())
@@ -433,9 +266,15 @@ int run_bench(const BenchArguments& arguments) {
     Report report = empty_report(all_threads, arguments);
     std::vector<Summary> summaries(configurations.size());
     std::optional<fs::path> povray = arguments.peers ? pov::find_povray() : std::nullopt;
-    for (const auto& [name, scene] : scenes) {
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+        const auto& [name, scene] = scenes[i];
         std::vector<double> sse_seconds;
         bench_scene(name, scene, arguments, configurations, summaries, sse_seconds, report);
+        try {
+            bench_process(name, scene_paths[i], scene, arguments, report);
+        } catch (const std::exception& error) {
+            std::cerr << "twinray bench: the whole process of " << name << " left out: " << error.what() << "\n";
+        }
         if (povray) {
             try {
                 bench_povray(name, scene, arguments, *povray, all_threads, sse_seconds, report);
@@ -455,6 +294,8 @@ int run_bench(const BenchArguments& arguments) {
     }
     std::fputs("\n", stderr);
     std::vector<const BenchTable*> tables = {&report.trade, &report.summary};
+    if (!report.process.rows.empty())
+        tables.push_back(&report.process);
     if (!report.povray.rows.empty())
         tables.push_back(&report.povray);
     if (!report.first_hit.rows.empty())
@@ -477,13 +318,17 @@ int run_bench(const BenchArguments& arguments) {
 }
 
 }  // namespace
+}  // namespace twinray::cli::bench
+
+namespace twinray::cli {
 
 void add_bench_command(CLI::App& app, std::function<int()>& run) {
+    using namespace bench;
     auto arguments = std::make_shared<BenchArguments>();
     CLI::App* command = app.add_subcommand(
         "bench",
         "Speed against accuracy: every tracer and precision knob on each scene, against reference<double>, POV-Ray "
-        "and Embree");
+        "and Embree; and the whole process (start-up, loading, writing)");
     command->add_option("scenes", arguments->scenes, "Scene files (default: every scenes/*.json)");
     command->add_option("--runs", arguments->runs, "Runs; each renders every configuration once; medians are reported")
         ->check(CLI::Range(1, 1000))

@@ -1,46 +1,18 @@
 #include "compare/image_compare.h"
 
 #include "image/image_file.h"
-
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/imageio.h>
+#include "image/openimageio_module.h"
+#include "image/png_file.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <memory>
+#include <limits>
 #include <string>
 
 namespace twinray::compare {
 namespace {
-
-namespace OIIO = OIIO_NAMESPACE;
-
-// A read-only view of our image as an OpenImageIO buffer (no copy).
-OIIO::ImageBuf view(const Image& image) {
-    OIIO::ImageSpec spec(image.width(), image.height(), 3, OIIO::TypeDesc::FLOAT);
-    return OIIO::ImageBuf(spec, const_cast<Rgb*>(image.pixels().data()));
-}
-
-Image from_buffer(const OIIO::ImageBuf& buffer) {
-    const OIIO::ImageSpec& spec = buffer.spec();
-    Image image(spec.width, spec.height);
-    std::vector<float> pixels(static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height) * 3);
-    OIIO::ROI rgb(spec.x, spec.x + spec.width, spec.y, spec.y + spec.height, 0, 1, 0, 3);
-    if (!buffer.get_pixels(rgb, OIIO::TypeDesc::FLOAT, pixels.data())) {
-        throw ImageReadError(buffer.geterror());
-    }
-    for (int y = 0; y < spec.height; ++y) {
-        for (int x = 0; x < spec.width; ++x) {
-            const float* p = &pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(spec.width) +
-                                      static_cast<std::size_t>(x)) *
-                                     3];
-            image.at(x, y) = {p[0], p[1], p[2]};
-        }
-    }
-    return image;
-}
 
 void require_same_size(const Image& a, const Image& b) {
     if (a.width() != b.width() || a.height() != b.height()) {
@@ -55,12 +27,103 @@ double largest_channel_difference(const Rgb& a, const Rgb& b) {
                      std::fabs(static_cast<double>(a.b) - b.b)});
 }
 
-Image grey_ramp_through_inferno(const Image& grey) {
-    OIIO::ImageBuf mapped = OIIO::ImageBufAlgo::color_map(view(grey), 0, "inferno");
-    if (mapped.has_error()) {
-        throw std::runtime_error("colour map: " + mapped.geterror());
+// Sums and extremes over the pixels, each channel judged as idiff (OpenImageIO's ImageBufAlgo::compare)
+// judges it, so that `twinray compare` prints what idiff prints for the same two images.
+class Accumulator {
+public:
+    Accumulator(const Thresholds& thresholds)
+        : fail_(static_cast<float>(thresholds.fail)), warn_(static_cast<float>(thresholds.warn)) {}
+
+    void add_pixel(int x, int y, const Rgb& a, const Rgb& b) {
+        pixel_warned_ = pixel_failed_ = false;
+        add(x, y, 0, a.r, b.r);
+        add(x, y, 1, a.g, b.g);
+        add(x, y, 2, a.b, b.b);
+        if (++pixels_in_batch_ == batch_pixels) {
+            end_batch();
+        }
     }
-    return from_buffer(mapped);
+
+    Metrics finish(long pixel_count) {
+        end_batch();
+        const double values = 3.0 * static_cast<double>(pixel_count);
+        metrics_.mean_error = total_ / values;
+        metrics_.rms_error = std::sqrt(total_squares_ / values);
+        metrics_.psnr = 20.0 * std::log10(largest_value_ / metrics_.rms_error);
+        metrics_.pixel_count = pixel_count;
+        return metrics_;
+    }
+
+private:
+    // Sums of 4096 pixels at a time, then added to the totals, as idiff does, so that the sums round
+    // alike: a total far larger than each pixel's error would swallow it.
+    static constexpr int batch_pixels = 4096;
+
+    void add(int x, int y, int channel, float a, float b) {
+        if (!std::isfinite(a) || !std::isfinite(b)) {
+            // NaN matches NaN and infinity matches infinity; any other non-finite difference is the
+            // largest error, found once.
+            if (std::isnan(a) == std::isnan(b) && std::isinf(a) == std::isinf(b)) {
+                return;
+            }
+            if (std::isfinite(metrics_.max_error)) {
+                metrics_.max_error = std::numeric_limits<float>::infinity();
+                place_max(x, y, channel);
+                return;
+            }
+        }
+        const float a_size = std::abs(a), b_size = std::abs(b);
+        largest_value_ = std::max(largest_value_, std::max(a_size, b_size));
+        const double difference = std::fabs(a - b);  // in float, as idiff subtracts
+        batch_total_ += difference;
+        batch_squares_ += difference * difference;
+        // !(d <= limit) rather than d > limit: a NaN difference counts as over every limit.
+        if (!(difference <= metrics_.max_error)) {
+            metrics_.max_error = difference;
+            place_max(x, y, channel);
+        }
+        // idiff also asks the difference relative to the mean size of the two values to exceed a
+        // limit, 0 here; that rules out a NaN against a number (their mean size is NaN).
+        const auto mean_size = static_cast<float>(a_size * 0.5 + b_size * 0.5);
+        const double relative = mean_size > 0.0 ? difference / mean_size : 0.0;
+        if (relative <= 0.0) {
+            return;
+        }
+        if (!pixel_warned_ && !(difference <= warn_)) {
+            ++metrics_.warn_pixels;
+            pixel_warned_ = true;
+        }
+        if (!pixel_failed_ && !(difference <= fail_)) {
+            ++metrics_.fail_pixels;
+            pixel_failed_ = true;
+        }
+    }
+
+    void place_max(int x, int y, int channel) {
+        metrics_.max_x = x;
+        metrics_.max_y = y;
+        metrics_.max_channel = channel;
+    }
+
+    void end_batch() {
+        total_ += batch_total_;
+        total_squares_ += batch_squares_;
+        batch_total_ = batch_squares_ = 0;
+        pixels_in_batch_ = 0;
+    }
+
+    float fail_, warn_;
+    Metrics metrics_;
+    float largest_value_ = 1;  // the PSNR's peak: 1, or the largest magnitude if larger
+    double total_ = 0, total_squares_ = 0, batch_total_ = 0, batch_squares_ = 0;
+    int pixels_in_batch_ = 0;
+    bool pixel_warned_ = false, pixel_failed_ = false;
+};
+
+std::string lowercase(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return text;
 }
 
 }  // namespace
@@ -76,20 +139,13 @@ const char* to_string(Verdict verdict) {
 
 Metrics measure(const Image& a, const Image& b, const Thresholds& thresholds) {
     require_same_size(a, b);
-    OIIO::ImageBufAlgo::CompareResults result = OIIO::ImageBufAlgo::compare(
-        view(a), view(b), static_cast<float>(thresholds.fail), static_cast<float>(thresholds.warn));
-    Metrics metrics;
-    metrics.mean_error = result.meanerror;
-    metrics.rms_error = result.rms_error;
-    metrics.psnr = result.PSNR;
-    metrics.max_error = result.maxerror;
-    metrics.max_x = result.maxx;
-    metrics.max_y = result.maxy;
-    metrics.max_channel = result.maxc;
-    metrics.warn_pixels = static_cast<long>(result.nwarn);
-    metrics.fail_pixels = static_cast<long>(result.nfail);
-    metrics.pixel_count = static_cast<long>(a.pixels().size());
-    return metrics;
+    Accumulator accumulator(thresholds);
+    for (int y = 0; y < a.height(); ++y) {
+        for (int x = 0; x < a.width(); ++x) {
+            accumulator.add_pixel(x, y, a.at(x, y), b.at(x, y));
+        }
+    }
+    return accumulator.finish(static_cast<long>(a.pixels().size()));
 }
 
 Verdict judge(const Metrics& metrics, const Thresholds& thresholds) {
@@ -131,7 +187,7 @@ Image error_heat_map(const Image& a, const Image& b, double scale) {
             grey.at(x, y) = {level, level, level};
         }
     }
-    return grey_ramp_through_inferno(grey);
+    return inferno_colour_map(grey);
 }
 
 Image heat_map_legend(int width, int height) {
@@ -142,7 +198,7 @@ Image heat_map_legend(int width, int height) {
             grey.at(x, y) = {level, level, level};
         }
     }
-    return grey_ramp_through_inferno(grey);
+    return inferno_colour_map(grey);
 }
 
 Image fail_mask(const Image& reference, const Image& other, double fail) {
@@ -183,53 +239,18 @@ Image quantized_8bit(const Image& image) {
 }
 
 Image read_image(const std::filesystem::path& path, std::int64_t pixel_limit) {
-    std::string name = path.string();
-    auto refuse = [&name](const std::string& why) { return ImageReadError("cannot read " + name + ": " + why); };
-    // An ImageInput rather than an ImageBuf: no shared ImageCache that would remember a file by its name.
-    // The reader is the one the extension names, without OpenImageIO's fallback of trying every other
-    // format on a file its reader refuses: a damaged .png is reported as such, and only one parser
-    // reads bytes it did not expect.
-    // (Given a file name, ImageInput::create sniffs the content; given the format's name, it cannot.)
-    std::string format = path.extension().string();
-    if (format.size() < 2) {
-        throw refuse("no extension to name its format (.png, .exr, or another that OpenImageIO reads)");
+    const std::string extension = path.extension().string();
+    if (extension.size() < 2) {
+        throw ImageReadError("cannot read " + path.string() +
+                             ": no extension to name its format (.png, .exr, or another that OpenImageIO reads)");
     }
-    std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::create(format.substr(1));
-    if (!input) {
-        throw refuse(OIIO::geterror());
+    // PNG through libpng, the most common case, without OpenImageIO's start-up; any other format
+    // through OpenImageIO, loaded then (image/openimageio_module.h).
+    try {
+        return lowercase(extension) == ".png" ? read_png(path, pixel_limit) : read_with_openimageio(path, pixel_limit);
+    } catch (const std::runtime_error& error) {
+        throw ImageReadError("cannot read " + path.string() + ": " + error.what());
     }
-    OIIO::ImageSpec header;
-    if (!input->open(name, header)) {
-        throw refuse(input->geterror());
-    }
-    // The header first: any file can claim any size, so the size is checked before pixels are allocated.
-    const OIIO::ImageSpec& spec = input->spec();
-    if (spec.nchannels < 1 || spec.width < 1 || spec.height < 1 || spec.depth != 1) {
-        throw refuse("not a 2-D image with pixels");
-    }
-    std::int64_t pixel_count = std::int64_t{spec.width} * spec.height;
-    if (pixel_count > pixel_limit) {
-        throw refuse(std::to_string(spec.width) + " x " + std::to_string(spec.height) + " is " +
-                     std::to_string(pixel_count) + " pixels, more than the limit of " + std::to_string(pixel_limit));
-    }
-    // Grey is read as one channel and expanded; a fourth channel and beyond (alpha) are never read.
-    int channels = std::min(spec.nchannels, 3);
-    // Not zero-filled: a truncated file that claims 8192 x 8192 fails without touching 768 MiB first.
-    auto samples = std::make_unique_for_overwrite<float[]>(static_cast<std::size_t>(pixel_count) *
-                                                           static_cast<std::size_t>(channels));
-    if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, samples.get())) {
-        throw refuse(input->geterror());
-    }
-    Image image(spec.width, spec.height);
-    for (int y = 0; y < spec.height; ++y) {
-        for (int x = 0; x < spec.width; ++x) {
-            const float* p = &samples[(static_cast<std::size_t>(y) * static_cast<std::size_t>(spec.width) +
-                                       static_cast<std::size_t>(x)) *
-                                      static_cast<std::size_t>(channels)];
-            image.at(x, y) = channels == 3 ? Rgb{p[0], p[1], p[2]} : Rgb{p[0], p[0], p[0]};
-        }
-    }
-    return image;
 }
 
 }  // namespace twinray::compare

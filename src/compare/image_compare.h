@@ -1,5 +1,5 @@
-// Comparing two images the way idiff does, on OpenImageIO's ImageBufAlgo: metrics, a verdict against
-// thresholds, an error heat map on a fixed scale, a mask of failing pixels and the worst pixels.
+// Comparing two images the way idiff does (OpenImageIO's ImageBufAlgo::compare): metrics, a verdict
+// against thresholds, an error heat map on a fixed scale, a mask of failing pixels and the worst pixels.
 #pragma once
 
 #include "image/image.h"
@@ -69,8 +69,9 @@ Image fail_mask(const Image& reference, const Image& other, double fail);
 Image clamped(const Image& image);
 Image quantized_8bit(const Image& image);
 
-// Any format OpenImageIO reads, as float RGB (grey is expanded, alpha dropped). Throws ImageReadError
-// for anything else, including images of more than `pixel_limit` pixels (checked from the header alone).
+// PNG (libpng) or any other format OpenImageIO reads, chosen by the extension, as float RGB (grey is
+// expanded, alpha dropped). Throws ImageReadError for anything else, including images of more than
+// `pixel_limit` pixels (checked from the header alone).
 Image read_image(const std::filesystem::path& path, std::int64_t pixel_limit = max_image_pixels);
 
 }  // namespace twinray::compare

@@ -1,4 +1,5 @@
-// Image files through OpenImageIO. Writes are atomic: a temporary file in the target folder, renamed
+// Image files twinray writes: PNG through libpng, EXR through OpenEXR (reading any format is
+// compare::read_image's). Writes are atomic: a temporary file in the target folder, renamed
 // over the target only once complete, so a failed or interrupted write never leaves a partial image.
 #pragma once
 

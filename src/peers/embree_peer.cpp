@@ -1,158 +1,31 @@
 #include "peers/embree_peer.h"
 
-#include "reference/cylinder.h"
-#include "sse/tracer.h"
+#include "peers/embree_module.h"
 
-#include <embree3/rtcore.h>
+#include <dlfcn.h>
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <limits>
 #include <stdexcept>
-#include <variant>
-#include <vector>
 
 namespace twinray::peers {
 namespace {
 
-using Shape = reference::CylinderShape<float>;
-using FloatVec = reference::Vec3<float>;
-
-// A plane becomes one quad of half-side plane_extent around its point nearest the origin: Embree has
-// no infinite primitive, and its native quads beat a user callback. Our scenes meet their planes
-// within about 1e4 of the origin.
-constexpr double plane_extent = 1e5;
-
-// Planes and boxes as quads (Embree's own geometry): four vertices each, index quads.
-struct Quads {
-    std::vector<float> vertices;  // x, y, z per vertex, then 4 bytes of padding Embree may read
-    std::vector<unsigned> indices;
-
-    void add(const scene::Vec3 corners[4]) {
-        auto first = static_cast<unsigned>(vertices.size() / 3);
-        for (int i = 0; i < 4; ++i) {
-            for (int axis = 0; axis < 3; ++axis) {
-                vertices.push_back(static_cast<float>(corners[i][axis]));
-            }
-            indices.push_back(first + static_cast<unsigned>(i));
-        }
+// The module's path in this build tree (TWINRAY_EMBREE_MODULE, set by src/cli/CMakeLists.txt).
+const EmbreeFunctions& load_module() {
+    void* module = dlopen(TWINRAY_EMBREE_MODULE, RTLD_LAZY | RTLD_LOCAL);
+    if (!module) {
+        throw std::runtime_error(std::string("cannot load the Embree module: ") + dlerror());
     }
-};
-
-scene::Vec3 combine(const scene::Vec3& p, double a, const scene::Vec3& u, double b, const scene::Vec3& v) {
-    return {p[0] + a * u[0] + b * v[0], p[1] + a * u[1] + b * v[1], p[2] + a * u[2] + b * v[2]};
-}
-
-void add_plane(const scene::Plane& plane, Quads& quads) {
-    const scene::Vec3& n = plane.normal;
-    // A tangent: n crossed with the axis n is least aligned with, then the second by n × first.
-    int least = std::fabs(n[0]) <= std::fabs(n[1]) && std::fabs(n[0]) <= std::fabs(n[2]) ? 0
-                : std::fabs(n[1]) <= std::fabs(n[2])                                     ? 1
-                                                                                         : 2;
-    scene::Vec3 axis{least == 0 ? 1.0 : 0.0, least == 1 ? 1.0 : 0.0, least == 2 ? 1.0 : 0.0};
-    scene::Vec3 u = math::normalize(math::cross(n, axis));
-    scene::Vec3 v = math::cross(n, u);
-    scene::Vec3 centre = plane.offset * n;
-    const double e = plane_extent;
-    const scene::Vec3 corners[4] = {combine(centre, -e, u, -e, v), combine(centre, e, u, -e, v),
-                                    combine(centre, e, u, e, v), combine(centre, -e, u, e, v)};
-    quads.add(corners);
-}
-
-void add_box(const scene::Box& box, Quads& quads) {
-    for (int axis = 0; axis < 3; ++axis) {
-        int a = (axis + 1) % 3, b = (axis + 2) % 3;
-        for (double side : {box.min[axis], box.max[axis]}) {
-            scene::Vec3 corners[4];
-            const double along_a[4] = {box.min[a], box.max[a], box.max[a], box.min[a]};
-            const double along_b[4] = {box.min[b], box.min[b], box.max[b], box.max[b]};
-            for (int i = 0; i < 4; ++i) {
-                corners[i][axis] = side;
-                corners[i][a] = along_a[i];
-                corners[i][b] = along_b[i];
-            }
-            quads.add(corners);
-        }
+    using Entry = const EmbreeFunctions* (*)();
+    auto entry = reinterpret_cast<Entry>(dlsym(module, "twinray_embree_functions"));
+    if (!entry) {
+        throw std::runtime_error(std::string("the Embree module is broken: ") + dlerror());
     }
+    return *entry();
 }
 
-struct UserGeometry {
-    std::vector<Shape> shapes;
-    std::vector<RTCBounds> bounds;
-};
-
-RTCBounds bounds_of(const Shape& s) {
-    FloatVec cap = s.base + s.height * s.axis;
-    float r = s.radius;
-    return {std::min(s.base[0], cap[0]) - r, std::min(s.base[1], cap[1]) - r, std::min(s.base[2], cap[2]) - r, 0,
-            std::max(s.base[0], cap[0]) + r, std::max(s.base[1], cap[1]) + r, std::max(s.base[2], cap[2]) + r, 0};
-}
-
-void user_bounds(const RTCBoundsFunctionArguments* args) {
-    const auto* geometry = static_cast<const UserGeometry*>(args->geometryUserPtr);
-    *args->bounds_o = geometry->bounds[args->primID];
-}
-
-// The nearest crossing of the shape in (tnear, tfar), as the reference finds it, recorded as Embree's hit.
-void user_intersect(const RTCIntersectFunctionNArguments* args) {
-    const auto* geometry = static_cast<const UserGeometry*>(args->geometryUserPtr);
-    const Shape& shape = geometry->shapes[args->primID];
-    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
-    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
-    for (unsigned i = 0; i < args->N; ++i) {
-        if (args->valid[i] == 0) {
-            continue;
-        }
-        reference::Ray<float> ray{
-            {RTCRayN_org_x(rays, args->N, i), RTCRayN_org_y(rays, args->N, i), RTCRayN_org_z(rays, args->N, i)},
-            {RTCRayN_dir_x(rays, args->N, i), RTCRayN_dir_y(rays, args->N, i), RTCRayN_dir_z(rays, args->N, i)}};
-        float near = RTCRayN_tnear(rays, args->N, i);
-        float& far = RTCRayN_tfar(rays, args->N, i);
-        auto span = reference::span_of(shape, ray);
-        if (!span) {
-            continue;
-        }
-        const reference::Crossing<float>& crossing = span->enter.t > near ? span->enter : span->exit;
-        if (!(crossing.t > near && crossing.t < far)) {
-            continue;
-        }
-        far = crossing.t;
-        RTCHitN_Ng_x(hits, args->N, i) = crossing.outward_normal[0];
-        RTCHitN_Ng_y(hits, args->N, i) = crossing.outward_normal[1];
-        RTCHitN_Ng_z(hits, args->N, i) = crossing.outward_normal[2];
-        RTCHitN_u(hits, args->N, i) = 0;
-        RTCHitN_v(hits, args->N, i) = 0;
-        RTCHitN_primID(hits, args->N, i) = args->primID;
-        RTCHitN_geomID(hits, args->N, i) = args->geomID;
-        RTCHitN_instID(hits, args->N, i, 0) = args->context->instID[0];
-    }
-}
-
-// Each primitive as Embree holds it: spheres natively, planes and boxes as quads, cylinders as user
-// geometry intersected by the reference's formula. Anything else (CSG, a primitive the peer has not
-// learnt) is refused.
-void add_to_peer(const scene::Sphere& sphere, int, std::vector<float>& spheres, Quads&, UserGeometry&) {
-    for (double v : {sphere.center[0], sphere.center[1], sphere.center[2], sphere.radius}) {
-        spheres.push_back(static_cast<float>(v));
-    }
-}
-void add_to_peer(const scene::Plane& plane, int, std::vector<float>&, Quads& quads, UserGeometry&) {
-    add_plane(plane, quads);
-}
-void add_to_peer(const scene::Box& box, int, std::vector<float>&, Quads& quads, UserGeometry&) {
-    add_box(box, quads);
-}
-void add_to_peer(const scene::Cylinder& cylinder, int leaf, std::vector<float>&, Quads&, UserGeometry& user) {
-    user.shapes.push_back(reference::make_shape<float>(cylinder, leaf));
-}
-template <typename Unsupported>
-void add_to_peer(const Unsupported&, int, std::vector<float>&, Quads&, UserGeometry&) {
-    throw std::runtime_error("Embree peer: scenes with CSG are not supported");
-}
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+const EmbreeFunctions& module_functions() {
+    static const EmbreeFunctions& functions = load_module();
+    return functions;
 }
 
 }  // namespace
@@ -162,147 +35,37 @@ std::string embree_unsupported_reason(const scene::Scene& scene) {
 }
 
 struct EmbreePeer::State {
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    UserGeometry user;
-    Quads quads;
-    std::vector<float> spheres;  // x, y, z, r
-    int width = 0, height = 0;
-    std::vector<sse::Ray> rays;  // row by row
+    State(const EmbreeFunctions& functions, void* scene) : module(functions), embree(scene) {}
+    State(const State&) = delete;
+    State& operator=(const State&) = delete;
+    ~State() { module.destroy(embree); }
 
-    ~State() {
-        if (scene != nullptr)
-            rtcReleaseScene(scene);
-        if (device != nullptr)
-            rtcReleaseDevice(device);
-    }
+    const EmbreeFunctions& module;
+    void* embree;
 };
 
-EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) : state_(std::make_unique<State>()) {
-    State& s = *state_;
-    s.device = rtcNewDevice(nullptr);
-    if (s.device == nullptr) {
-        throw std::runtime_error("Embree: rtcNewDevice failed (error " + std::to_string(rtcGetDeviceError(nullptr)) +
-                                 ")");
-    }
-    s.scene = rtcNewScene(s.device);
-    for (const scene::Object& object : scene.objects) {
-        std::visit([&](const auto& shape) { add_to_peer(shape, object.leaf, s.spheres, s.quads, s.user); },
-                   object.shape);
-    }
-    if (!s.spheres.empty()) {
-        RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, s.spheres.data(), 0,
-                                   4 * sizeof(float), s.spheres.size() / 4);
-        rtcCommitGeometry(geometry);
-        rtcAttachGeometry(s.scene, geometry);
-        rtcReleaseGeometry(geometry);
-    }
-    if (!s.quads.indices.empty()) {
-        s.quads.vertices.push_back(0.0f);  // the padding
-        RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_QUAD);
-        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, s.quads.vertices.data(), 0,
-                                   3 * sizeof(float), (s.quads.vertices.size() - 1) / 3);
-        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, s.quads.indices.data(), 0,
-                                   4 * sizeof(unsigned), s.quads.indices.size() / 4);
-        rtcCommitGeometry(geometry);
-        rtcAttachGeometry(s.scene, geometry);
-        rtcReleaseGeometry(geometry);
-    }
-    if (!s.user.shapes.empty()) {
-        for (const Shape& shape : s.user.shapes) {
-            s.user.bounds.push_back(bounds_of(shape));
-        }
-        RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_USER);
-        rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(s.user.shapes.size()));
-        rtcSetGeometryUserData(geometry, &s.user);
-        rtcSetGeometryBoundsFunction(geometry, user_bounds, nullptr);
-        rtcSetGeometryIntersectFunction(geometry, user_intersect);
-        rtcCommitGeometry(geometry);
-        rtcAttachGeometry(s.scene, geometry);
-        rtcReleaseGeometry(geometry);
-    }
-    rtcCommitScene(s.scene);
-    if (RTCError error = rtcGetDeviceError(s.device); error != RTC_ERROR_NONE) {
-        throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(error) + ")");
-    }
-    scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
-    s.width = size.width;
-    s.height = size.height;
-    sse::Tracer camera(scene);
-    for (int y = 0; y < s.height; ++y) {
-        for (int x = 0; x < s.width; ++x) {
-            s.rays.push_back(camera.primary_ray(x, y, s.width, s.height));
+EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) {
+    const scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
+    const sse::Tracer camera(scene);
+    std::vector<sse::Ray> rays;
+    rays.reserve(static_cast<std::size_t>(size.width) * static_cast<std::size_t>(size.height));
+    for (int y = 0; y < size.height; ++y) {
+        for (int x = 0; x < size.width; ++x) {
+            rays.push_back(camera.primary_ray(x, y, size.width, size.height));
         }
     }
+    const EmbreeFunctions& module = module_functions();
+    state_ = std::make_unique<State>(module, module.create(scene, std::move(rays), size.width, size.height));
 }
 
 EmbreePeer::~EmbreePeer() = default;
 
 FirstHitRun EmbreePeer::cast_single() const {
-    const State& s = *state_;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    FirstHitRun run;
-    auto start = std::chrono::steady_clock::now();
-    for (const sse::Ray& ray : s.rays) {
-        RTCRayHit rayhit{};
-        rayhit.ray = {ray.origin.x,
-                      ray.origin.y,
-                      ray.origin.z,
-                      0.0f,
-                      ray.direction.x,
-                      ray.direction.y,
-                      ray.direction.z,
-                      0.0f,
-                      std::numeric_limits<float>::infinity(),
-                      ~0u,
-                      0,
-                      0};
-        rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(s.scene, &context, &rayhit);
-        run.hits += rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
-    }
-    run.seconds = seconds_since(start);
-    run.rays = s.rays.size();
-    return run;
+    return state_->module.cast_single(state_->embree);
 }
 
 FirstHitRun EmbreePeer::cast_packets() const {
-    const State& s = *state_;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    FirstHitRun run;
-    auto start = std::chrono::steady_clock::now();
-    for (int y = 0; y < s.height; y += 2) {
-        for (int x = 0; x < s.width; x += 2) {
-            alignas(16) RTCRayHit4 packet{};
-            alignas(16) int valid[4];
-            for (int lane = 0; lane < 4; ++lane) {
-                int px = x + (lane & 1), py = y + (lane >> 1);
-                valid[lane] = px < s.width && py < s.height ? -1 : 0;
-                const sse::Ray& ray =
-                    s.rays[static_cast<std::size_t>(valid[lane] != 0 ? py * s.width + px : y * s.width + x)];
-                packet.ray.org_x[lane] = ray.origin.x;
-                packet.ray.org_y[lane] = ray.origin.y;
-                packet.ray.org_z[lane] = ray.origin.z;
-                packet.ray.dir_x[lane] = ray.direction.x;
-                packet.ray.dir_y[lane] = ray.direction.y;
-                packet.ray.dir_z[lane] = ray.direction.z;
-                packet.ray.tnear[lane] = 0.0f;
-                packet.ray.tfar[lane] = std::numeric_limits<float>::infinity();
-                packet.ray.mask[lane] = ~0u;
-                packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
-            }
-            rtcIntersect4(valid, s.scene, &context, &packet);
-            for (int lane = 0; lane < 4; ++lane) {
-                run.hits += valid[lane] != 0 && packet.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
-            }
-        }
-    }
-    run.seconds = seconds_since(start);
-    run.rays = s.rays.size();
-    return run;
+    return state_->module.cast_packets(state_->embree);
 }
 
 }  // namespace twinray::peers

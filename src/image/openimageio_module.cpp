@@ -1,0 +1,41 @@
+#include "image/openimageio_module.h"
+
+#include <dlfcn.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace twinray {
+namespace {
+
+// The module's path in this build tree (TWINRAY_OPENIMAGEIO_MODULE, set by src/CMakeLists.txt).
+const OpenImageIoFunctions& load_module() {
+    void* module = dlopen(TWINRAY_OPENIMAGEIO_MODULE, RTLD_LAZY | RTLD_LOCAL);
+    if (!module) {
+        throw std::runtime_error(std::string("cannot load the OpenImageIO module: ") + dlerror());
+    }
+    using Entry = const OpenImageIoFunctions* (*)();
+    auto entry = reinterpret_cast<Entry>(dlsym(module, "twinray_openimageio_functions"));
+    if (!entry) {
+        throw std::runtime_error(std::string("the OpenImageIO module is broken: ") + dlerror());
+    }
+    return *entry();
+}
+
+// Loaded once per process, by whichever thread asks first; a failed load is retried on the next call.
+const OpenImageIoFunctions& module_functions() {
+    static const OpenImageIoFunctions& functions = load_module();
+    return functions;
+}
+
+}  // namespace
+
+Image read_with_openimageio(const std::filesystem::path& path, std::int64_t pixel_limit) {
+    return module_functions().read(path, pixel_limit);
+}
+
+Image inferno_colour_map(const Image& grey) {
+    return module_functions().inferno(grey);
+}
+
+}  // namespace twinray

@@ -1,0 +1,63 @@
+#include "scene/json_tree.h"
+
+#include <nlohmann/json.hpp>
+
+namespace twinray::scene {
+
+JsonKind JsonValue::kind() const {
+    return tree_->entry(index_).kind;
+}
+
+bool JsonValue::is_number() const {
+    const JsonKind k = kind();
+    return k == JsonKind::signed_integer || k == JsonKind::unsigned_integer || k == JsonKind::floating;
+}
+
+std::size_t JsonValue::size() const {
+    return tree_->entry(index_).count;
+}
+
+JsonValue JsonValue::next_sibling() const {
+    return {*tree_, tree_->entry(index_).end};
+}
+
+std::string_view JsonValue::key() const {
+    const JsonTree::Entry& entry = tree_->entry(index_);
+    return tree_->pooled(entry.key_offset, entry.key_size);
+}
+
+std::optional<JsonValue> JsonValue::find(std::string_view name) const {
+    JsonValue member = first_child();
+    for (std::size_t i = 0; i < size(); ++i, member = member.next_sibling()) {
+        if (member.key() == name) {
+            return member;
+        }
+    }
+    return std::nullopt;
+}
+
+std::string_view JsonValue::string() const {
+    const JsonTree::Entry& entry = tree_->entry(index_);
+    return tree_->pooled(entry.text_offset, entry.text_size);
+}
+
+double JsonValue::number() const {
+    return tree_->entry(index_).number;
+}
+
+std::string JsonValue::dump() const {
+    const JsonTree::Entry& entry = tree_->entry(index_);
+    switch (entry.kind) {
+        case JsonKind::boolean: return nlohmann::json(entry.boolean).dump();
+        case JsonKind::signed_integer: return nlohmann::json(entry.integer).dump();
+        case JsonKind::unsigned_integer: return nlohmann::json(static_cast<std::uint64_t>(entry.integer)).dump();
+        case JsonKind::floating: return nlohmann::json(entry.number).dump();
+        case JsonKind::string: return nlohmann::json(std::string(string())).dump();
+        case JsonKind::null:
+        case JsonKind::array:
+        case JsonKind::object: break;
+    }
+    return "null";
+}
+
+}  // namespace twinray::scene
