@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -57,13 +58,14 @@ TEST(FuzzRegression, EverySceneInputIsAcceptedOrRefusedWithASceneErrorWithinASec
 }
 
 // Sixty seconds, the image fuzz target's per-input timeout: the recorded OpenEXR inputs make OpenEXR
-// allocate gigabytes: 2–35 s a read in a release build, more under ASan, depending on the machine's load.
+// allocate gigabytes, 2–35 s a read. Measured in this process's CPU time, what a hang would burn: wall time
+// also counts whatever else the machine runs, and missed the limit on a busy 2-core machine.
 TEST(FuzzRegression, EveryImageInputIsReadOrRefusedWithAnErrorNamingTheFileWithinSixtySeconds) {
     std::vector<fs::path> inputs = recorded_inputs("image_loader");
     ASSERT_FALSE(inputs.empty()) << "tests/data/fuzz_regressions/image_loader/ holds the OpenEXR input";
     for (const fs::path& input : inputs) {
         SCOPED_TRACE(input.filename().string());
-        auto start = std::chrono::steady_clock::now();
+        std::clock_t start = std::clock();
         try {
             twinray::Image image = twinray::compare::read_image(input);
             EXPECT_GE(image.width(), 1);
@@ -72,7 +74,7 @@ TEST(FuzzRegression, EveryImageInputIsReadOrRefusedWithAnErrorNamingTheFileWithi
         } catch (const std::exception& error) {
             ADD_FAILURE() << "refused with something other than an ImageReadError: " << error.what();
         }
-        EXPECT_LT(seconds_since(start), 60.0);
+        EXPECT_LT(static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC, 60.0) << "CPU seconds";
     }
 }
 

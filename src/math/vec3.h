@@ -24,14 +24,14 @@ struct Vec3 {
     constexpr T& operator[](int axis) { return axis == 0 ? x : axis == 1 ? y : z; }
     constexpr const T& operator[](int axis) const { return axis == 0 ? x : axis == 1 ? y : z; }
 
-    friend constexpr Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-    friend constexpr Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-    friend constexpr Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
-    friend constexpr Vec3 operator*(const T& s, const Vec3& a) { return {s * a.x, s * a.y, s * a.z}; }
-    friend constexpr Vec3 operator*(const Vec3& a, const T& s) { return s * a; }
-    friend constexpr Vec3 operator/(const Vec3& a, const T& s) { return {a.x / s, a.y / s, a.z / s}; }
+    friend constexpr Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+    friend constexpr Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+    friend constexpr Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
+    friend constexpr Vec3 operator*(T s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
+    friend constexpr Vec3 operator*(Vec3 a, T s) { return s * a; }
+    friend constexpr Vec3 operator/(Vec3 a, T s) { return {a.x / s, a.y / s, a.z / s}; }
     // Component-wise: colour times colour.
-    friend constexpr Vec3 operator*(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+    friend constexpr Vec3 operator*(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
     constexpr Vec3& operator+=(const Vec3& b) { return *this = *this + b; }
     friend constexpr bool operator==(const Vec3& a, const Vec3& b) requires std::is_arithmetic_v<T> {
         return a.x == b.x && a.y == b.y && a.z == b.z;
@@ -39,23 +39,23 @@ struct Vec3 {
 };
 
 template <typename T>
-constexpr T dot(const Vec3<T>& a, const Vec3<T>& b) {
+constexpr T dot(Vec3<T> a, Vec3<T> b) {
     return a.x * b.x + a.y * b.y + a.z * b.z;
 }
 
 template <typename T>
-constexpr Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
+constexpr Vec3<T> cross(Vec3<T> a, Vec3<T> b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
 template <typename T>
-T length(const Vec3<T>& a) {
+T length(Vec3<T> a) {
     return std::sqrt(dot(a, a));
 }
 
 // Three divisions: each component rounded once (the reference's textbook normalisation).
 template <typename T>
-Vec3<T> normalize(const Vec3<T>& a) {
+Vec3<T> normalize(Vec3<T> a) {
     return a / length(a);
 }
 
@@ -63,12 +63,12 @@ Vec3<T> normalize(const Vec3<T>& a) {
 // for a third of the divisions, the thesis's rule where several numerators share a denominator. The SSE
 // tracer normalises this way.
 template <typename T>
-Vec3<T> normalize_by_reciprocal(const Vec3<T>& a) {
+Vec3<T> normalize_by_reciprocal(Vec3<T> a) {
     return (T(1) / length(a)) * a;
 }
 
 template <typename T>
-T max_abs_component(const Vec3<T>& a) {
+T max_abs_component(Vec3<T> a) {
     return std::fmax(std::fabs(a.x), std::fmax(std::fabs(a.y), std::fabs(a.z)));
 }
 
