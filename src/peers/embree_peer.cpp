@@ -25,6 +25,10 @@ using FloatVec = reference::Vec3<float>;
 constexpr double plane_extent = 1e5;
 
 // Planes and boxes as quads (Embree's own geometry): four vertices each, index quads.
+struct FloatRay {
+    sse::Vec3 origin, direction;
+};
+
 struct Quads {
     std::vector<float> vertices;  // x, y, z per vertex, then 4 bytes of padding Embree may read
     std::vector<unsigned> indices;
@@ -168,7 +172,8 @@ struct EmbreePeer::State {
     Quads quads;
     std::vector<float> spheres;  // x, y, z, r
     int width = 0, height = 0;
-    std::vector<sse::Ray> rays;  // row by row
+    // Row by row, in float world coordinates: Embree's scene is built from the scene's float coordinates.
+    std::vector<FloatRay> rays;
 
     ~State() {
         if (scene != nullptr)
@@ -232,7 +237,8 @@ EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) : state_(std::make_
     sse::Tracer camera(scene);
     for (int y = 0; y < s.height; ++y) {
         for (int x = 0; x < s.width; ++x) {
-            s.rays.push_back(camera.primary_ray(x, y, s.width, s.height));
+            sse::Ray ray = camera.primary_ray(x, y, s.width, s.height);
+            s.rays.push_back({sse::Vec3(ray.origin), ray.direction});
         }
     }
 }
@@ -245,7 +251,7 @@ FirstHitRun EmbreePeer::cast_single() const {
     rtcInitIntersectContext(&context);
     FirstHitRun run;
     auto start = std::chrono::steady_clock::now();
-    for (const sse::Ray& ray : s.rays) {
+    for (const FloatRay& ray : s.rays) {
         RTCRayHit rayhit{};
         rayhit.ray = {ray.origin.x,
                       ray.origin.y,
@@ -281,7 +287,7 @@ FirstHitRun EmbreePeer::cast_packets() const {
             for (int lane = 0; lane < 4; ++lane) {
                 int px = x + (lane & 1), py = y + (lane >> 1);
                 valid[lane] = px < s.width && py < s.height ? -1 : 0;
-                const sse::Ray& ray =
+                const FloatRay& ray =
                     s.rays[static_cast<std::size_t>(valid[lane] != 0 ? py * s.width + px : y * s.width + x)];
                 packet.ray.org_x[lane] = ray.origin.x;
                 packet.ray.org_y[lane] = ray.origin.y;
