@@ -35,16 +35,20 @@ constexpr double shifts[] = {1e3, 1e5, 1e6, 1e7};
 constexpr int image_width = 64;
 constexpr double float_unit_roundoff = std::numeric_limits<float>::epsilon() / 2;
 
+// scenes/ (sorted), then tests/data/extremes/ (sorted).
 std::vector<fs::path> far_scene_files() {
-    std::vector<fs::path> files = twinray::test::scene_files();
+    std::vector<fs::path> extremes;
     for (const auto& entry : fs::directory_iterator(fs::path(TWINRAY_SOURCE_DIR) / "tests/data/extremes")) {
-        files.push_back(entry.path());
+        extremes.push_back(entry.path());
     }
-    std::sort(files.begin() + static_cast<std::ptrdiff_t>(twinray::test::scene_files().size()), files.end());
+    std::sort(extremes.begin(), extremes.end());
+    std::vector<fs::path> files = twinray::test::scene_files();
+    files.insert(files.end(), extremes.begin(), extremes.end());
     return files;
 }
 
-std::vector<twinray::sse::Precision> built_precisions() {
+// Every combination of knobs the SSE tracer is built for (sse::precision_is_built), ftz included.
+std::vector<twinray::sse::Precision> built_knob_combinations() {
     std::vector<twinray::sse::Precision> built;
     for (int knobs = 0; knobs < 32; ++knobs) {
         twinray::sse::Precision precision{(knobs & 1) != 0, (knobs & 2) != 0, (knobs & 4) != 0, (knobs & 8) != 0,
@@ -105,7 +109,7 @@ TEST_P(FarFromTheOrigin, SseImageStaysWithinTheUntranslatedScenesToleranceForEve
         std::printf("[ measured ] %s moved %g: reference-float %.2f%% of pixels over %.4g, max %.4f\n",
                     GetParam().stem().c_str(), shift, 100.0 * naive.fail_pixels / naive.pixel_count, tolerance_.fail,
                     naive.max_error);
-        for (const twinray::sse::Precision& precision : built_precisions()) {
+        for (const twinray::sse::Precision& precision : built_knob_combinations()) {
             twinray::compare::Metrics metrics = twinray::compare::measure(
                 expected, twinray::compare::clamped(twinray::sse::render(moved, options, precision).image), tolerance_);
             double percent = 100.0 * metrics.fail_pixels / metrics.pixel_count;

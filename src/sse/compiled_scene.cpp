@@ -38,8 +38,8 @@ void add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int3
         object.shape);
 }
 
-// Compiles the scene moved by −origin in double (each coordinate and plane offset rounded once in double,
-// then once to float), so the float records hold distances from the eye.
+// Compiles the scene moved by −origin_of(scene) in double (each coordinate and plane offset rounded once in
+// double, then once to float), so the float records hold small numbers.
 class Compiler {
 public:
     explicit Compiler(const scene::Scene& scene)

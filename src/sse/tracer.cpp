@@ -20,10 +20,13 @@
 namespace twinray::sse {
 namespace {
 
-const vbool4 lane_0_only{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))};
+// A function, not a constant: no SSE code may run at start-up, before the CPU check.
+vbool4 lane_0_only() {
+    return vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))};
+}
 
 // A world ray as the compiled scene holds it: its origin minus the scene's, subtracted in double and rounded
-// once to float (exact for a primary ray, whose origin is the eye).
+// once to float (exact for primary_ray's rays, whose origin is the compiled eye translated back).
 struct RelativeRay {
     Vec3 origin;
     Vec3 direction;
@@ -41,7 +44,7 @@ Vec3d to_world(const CompiledScene& scene, const Vec3& point) {
 
 // A single ray through the packet path: all four lanes carry it, only lane 0 is active.
 RayPacket single_ray_packet(const RelativeRay& ray) {
-    return RayPacket(broadcast(ray.origin), broadcast(ray.direction), lane_0_only);
+    return RayPacket(broadcast(ray.origin), broadcast(ray.direction), lane_0_only());
 }
 
 int knob_bits(const Precision& precision) {
@@ -144,7 +147,7 @@ Color Tracer::trace(const Ray& world_ray, int depth, std::uint64_t* rays, RayTre
 
 Ray Tracer::primary_ray(int x, int y, int width, int height) const {
     RayPacket packet = with_precision_policy(precision_, [&](auto policy) {
-        return CameraPacket(*scene_, width, height).template rays<decltype(policy)>(x, y, lane_0_only);
+        return CameraPacket(*scene_, width, height).template rays<decltype(policy)>(x, y, lane_0_only());
     });
     return {to_world(*scene_, lane(packet.origin, 0)), lane(packet.direction, 0)};
 }
