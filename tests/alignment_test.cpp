@@ -122,11 +122,8 @@ SphereShape sphere_record() {
 }
 
 RayPacket packet_towards_minus_z() {
-    Ray rays[4];
-    for (Ray& ray : rays) {
-        ray = {{0, 0, 10}, {0, 0, -1}};
-    }
-    return RayPacket(rays, vbool4{_mm_castsi128_ps(_mm_set1_epi32(-1))});
+    return RayPacket(broadcast(Vec3{0, 0, 10}), broadcast(Vec3{0, 0, -1}),
+                     vbool4{_mm_castsi128_ps(_mm_set1_epi32(-1))});
 }
 
 // Kept out of line, fed through an opaque pointer and its result stored to a volatile, so the kernel

@@ -197,8 +197,7 @@ TEST_P(ExtremesGrazing, HitOrMissFlipsOnlyInsideTheStatedBandAndTAndNormalsStayB
     double u = unit_roundoff(kind);
     for (auto [size, shift] : {std::pair{1.0, 0.0}, std::pair{1e-3, 0.0}, std::pair{1e4, 0.0}, std::pair{1.0, 1e3}}) {
         for (const Family& family : families(size, shift)) {
-            scene::Scene held =
-                kind == TracerKind::reference_double ? family.scene : twinray::numerics::rounded_to_float(family.scene);
+            scene::Scene held = twinray::numerics::held_geometry(family.scene, kind);
             auto tracer = twinray::numerics::make_tracer(family.scene, kind);
             double widest_disagreement = 0, worst_t = 0, worst_normal = 0;
             int rays = 0, hits = 0;

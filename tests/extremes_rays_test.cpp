@@ -32,12 +32,13 @@ bool all_finite(const std::array<double, 3>& v) {
     return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
 }
 
-// intersect() and trace() of one ray, in each tracer's own types.
+// intersect() and trace() of one ray, in each tracer's own types (the ray's origin rounded to the tracer's
+// scalar, then widened where the ray holds it in double, as the SSE tracer's does).
 template <typename Tracer, typename Ray, typename Vec>
 Outcome run(const Tracer& tracer, std::array<double, 6> ray) {
     using Scalar = decltype(Vec{}.x);
     auto s = [](double v) { return static_cast<Scalar>(v); };
-    Ray r{Vec{s(ray[0]), s(ray[1]), s(ray[2])}, Vec{s(ray[3]), s(ray[4]), s(ray[5])}};
+    Ray r{decltype(Ray::origin)(Vec{s(ray[0]), s(ray[1]), s(ray[2])}), Vec{s(ray[3]), s(ray[4]), s(ray[5])}};
     Outcome outcome;
     auto hit = tracer.intersect(r);
     auto color = tracer.trace(r, 1);

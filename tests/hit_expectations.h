@@ -131,7 +131,8 @@ reference::Hit<double> widened(const FloatHit& hit) {
 }
 
 // The first hit of the tracer along the unit vector of `direction`. A float tracer gets the ray normalised
-// in double, then rounded to float, as `twinray probe --ray` gives it.
+// in double, then rounded to float, as `twinray probe --ray` gives it; the SSE tracer takes its origin in
+// double (it re-bases it on its own origin before rounding).
 inline std::optional<reference::Hit<double>> first_hit(const TracerUnderTest& tracer, const scene::Scene& scene,
                                                        V origin, V direction) {
     V unit = reference::normalize(direction);
@@ -145,11 +146,7 @@ inline std::optional<reference::Hit<double>> first_hit(const TracerUnderTest& tr
             return hit ? std::optional(widened(*hit)) : std::nullopt;
         }
         case TracerKind::sse: {
-            auto as_sse = [&](V v) {
-                reference::Vec3<float> f = rounded(v);
-                return sse::Vec3(f.x, f.y, f.z);
-            };
-            auto hit = sse::Tracer(scene, tracer.precision).intersect({as_sse(origin), as_sse(unit)});
+            auto hit = sse::Tracer(scene, tracer.precision).intersect({origin, sse::Vec3(unit)});
             return hit ? std::optional(widened(*hit)) : std::nullopt;
         }
     }

@@ -20,13 +20,12 @@ TracedTree trace_reference(const scene::Scene& scene, const Target& target) {
     return traced;
 }
 
-// The ray given by hand reaches the sse tracer rounded to float, its direction normalised in double.
+// The ray given by hand reaches the sse tracer with its origin in double (the tracer re-bases it on its own
+// origin before rounding to float) and its direction, normalised in double, rounded to float.
 TracedTree trace_sse(const scene::Scene& scene, const Target& target) {
     sse::Tracer tracer(scene);
-    auto f = [](double v) { return static_cast<float>(v); };
     sse::Ray ray = target.is_pixel ? tracer.primary_ray(target.x, target.y, target.width, target.height)
-                                   : sse::Ray{{f(target.origin[0]), f(target.origin[1]), f(target.origin[2])},
-                                              {f(target.direction[0]), f(target.direction[1]), f(target.direction[2])}};
+                                   : sse::Ray{target.origin, sse::Vec3(target.direction)};
     TracedTree traced{"sse (float, SSE4.1)", {}};
     tracer.trace(ray, 1, nullptr, &traced.tree);
     return traced;

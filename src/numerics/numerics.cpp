@@ -23,8 +23,9 @@ FirstHit first_hit(const std::optional<H>& hit) {
     return {true, hit->leaf, static_cast<double>(hit->t), recorded(hit->point), recorded(hit->normal)};
 }
 
-// Either tracer behind AnyTracer: `Scalar` is its precision, `Ray` its own ray type.
-template <typename Tracer, typename Ray, typename Scalar>
+// Either tracer behind AnyTracer: `Ray` its own ray type, whose members are built from double vectors
+// (rounded to the tracer's precision where its member is in float).
+template <typename Tracer, typename Ray>
 class TracerAdapter final : public AnyTracer {
 public:
     explicit TracerAdapter(const scene::Scene& scene) : tracer_(scene) {}
@@ -35,7 +36,7 @@ public:
         return first_hit(tracer_.intersect(tracer_.primary_ray(x, y, width, height)));
     }
     FirstHit intersect(const Vec3d& o, const Vec3d& d) const override {
-        return first_hit(tracer_.intersect(Ray{math::Vec3<Scalar>(o), math::Vec3<Scalar>(d)}));
+        return first_hit(tracer_.intersect(Ray{decltype(Ray::origin)(o), decltype(Ray::direction)(d)}));
     }
 
 private:
@@ -43,8 +44,8 @@ private:
 };
 
 template <typename T>
-using ReferenceTracer = TracerAdapter<reference::Tracer<T>, reference::Ray<T>, T>;
-using SseTracer = TracerAdapter<sse::Tracer, sse::Ray, float>;
+using ReferenceTracer = TracerAdapter<reference::Tracer<T>, reference::Ray<T>>;
+using SseTracer = TracerAdapter<sse::Tracer, sse::Ray>;
 
 }  // namespace
 
@@ -135,22 +136,13 @@ std::vector<double> footprint_shifts() {
 
 scene::Scene transformed(const scene::Scene& scene, double scale, double shift, double camera_distance) {
     scene::Scene result = scene;
-    scene::Vec3 eye;
     for (int axis = 0; axis < 3; ++axis) {
-        eye[axis] =
+        result.camera.eye[axis] =
             scene.camera.look_at[axis] + camera_distance * (scene.camera.eye[axis] - scene.camera.look_at[axis]);
     }
     double half_angle = scene.camera.fov_deg * std::numbers::pi / 360;
     result.camera.fov_deg = std::atan(std::tan(half_angle) / camera_distance) * 360 / std::numbers::pi;
-    result.camera.eye = scene::moved(eye, scale, shift);
-    result.camera.look_at = scene::moved(scene.camera.look_at, scale, shift);
-    for (scene::Light& light : result.lights) {
-        light.position = scene::moved(light.position, scale, shift);
-    }
-    for (scene::Object& object : result.objects) {
-        scene::move(object, scale, shift);
-    }
-    return result;
+    return scene::moved(result, scale, {shift, shift, shift});
 }
 
 scene::Scene rounded_to_float(const scene::Scene& scene) {
@@ -159,6 +151,18 @@ scene::Scene rounded_to_float(const scene::Scene& scene) {
         scene::round_to_float(object);
     }
     return result;
+}
+
+scene::Scene held_geometry(const scene::Scene& scene, TracerKind kind) {
+    switch (kind) {
+        case TracerKind::reference_double: return scene;
+        case TracerKind::reference_float: return rounded_to_float(scene);
+        case TracerKind::sse: {
+            scene::Vec3 origin = sse::origin_of(scene);
+            return scene::moved(rounded_to_float(scene::moved(scene, 1, -origin)), 1, origin);
+        }
+    }
+    return scene;
 }
 
 std::vector<const scene::Object*> leaf_objects(const scene::Scene& scene) {
@@ -172,7 +176,7 @@ std::vector<const scene::Object*> leaf_objects(const scene::Scene& scene) {
 Measurement measure(const scene::Scene& scene, TracerKind kind, int grid, double size) {
     std::unique_ptr<AnyTracer> tracer = make_tracer(scene, kind);
     std::vector<const scene::Object*> leaves = leaf_objects(scene);
-    scene::Scene held = kind == TracerKind::reference_double ? scene : rounded_to_float(scene);
+    scene::Scene held = held_geometry(scene, kind);
     std::vector<const scene::Object*> held_leaves = leaf_objects(held);
     Measurement m;
     for (int y = 0; y < grid; ++y) {

@@ -58,6 +58,10 @@ std::vector<double> footprint_shifts();
 // The scene with every number rounded to single precision: the geometry the float tracers work on.
 scene::Scene rounded_to_float(const scene::Scene& scene);
 
+// The geometry a tracer holds, in world coordinates: the scene as given (reference), rounded to float
+// (reference-float), rounded to float relative to sse::origin_of and moved back in double (sse).
+scene::Scene held_geometry(const scene::Scene& scene, TracerKind kind);
+
 // The primitive of each leaf (Scene::leaf_paths order).
 std::vector<const scene::Object*> leaf_objects(const scene::Scene& scene);
 
@@ -89,8 +93,8 @@ struct Measurement {
 
 // `size` is the length the errors are measured in (the object's size); `grid` × `grid` primary rays
 // through the centres of a grid × grid image. Hit points are measured against the scene as given; acne
-// against the geometry the tracer holds (rounded_to_float for the float tracers), since a float
-// primitive is not where the double one is. For TracerKind::sse the CPU must support SSE4.1.
+// against the geometry the tracer holds (held_geometry), since a float primitive is not where the double
+// one is. For TracerKind::sse the CPU must support SSE4.1.
 Measurement measure(const scene::Scene& scene, TracerKind kind, int grid, double size);
 
 // Per primitive type, the largest ratio of a primary hit point's distance from its true surface to the

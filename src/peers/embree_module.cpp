@@ -155,6 +155,12 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// A primary ray in float world coordinates, as Embree takes it: its scene is built from the scene's float
+// coordinates (the SSE tracer's rays are re-based, with a double origin).
+struct FloatRay {
+    sse::Vec3 origin, direction;
+};
+
 struct State {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
@@ -162,7 +168,7 @@ struct State {
     Quads quads;
     std::vector<float> spheres;  // x, y, z, r
     int width = 0, height = 0;
-    std::vector<sse::Ray> rays;  // row by row
+    std::vector<FloatRay> rays;  // row by row
 
     ~State() {
         if (scene != nullptr)
@@ -223,7 +229,10 @@ void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, i
     }
     s.width = width;
     s.height = height;
-    s.rays = std::move(rays);
+    s.rays.reserve(rays.size());
+    for (const sse::Ray& ray : rays) {
+        s.rays.push_back({sse::Vec3(ray.origin), ray.direction});
+    }
     return state.release();
 }
 
@@ -237,7 +246,7 @@ FirstHitRun cast_single(const void* state) {
     rtcInitIntersectContext(&context);
     FirstHitRun run;
     auto start = std::chrono::steady_clock::now();
-    for (const sse::Ray& ray : s.rays) {
+    for (const FloatRay& ray : s.rays) {
         RTCRayHit rayhit{};
         rayhit.ray = {ray.origin.x,
                       ray.origin.y,
@@ -273,7 +282,7 @@ FirstHitRun cast_packets(const void* state) {
             for (int lane = 0; lane < 4; ++lane) {
                 int px = x + (lane & 1), py = y + (lane >> 1);
                 valid[lane] = px < s.width && py < s.height ? -1 : 0;
-                const sse::Ray& ray =
+                const FloatRay& ray =
                     s.rays[static_cast<std::size_t>(valid[lane] != 0 ? py * s.width + px : y * s.width + x)];
                 packet.ray.org_x[lane] = ray.origin.x;
                 packet.ray.org_y[lane] = ray.origin.y;

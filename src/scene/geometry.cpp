@@ -40,7 +40,7 @@ Bounds bounds(const Object& object) {
 }
 
 // Csg has no overloads of its own: each operation recurses into the children.
-void move(Object& object, double scale, double shift) {
+void move(Object& object, double scale, const Vec3& shift) {
     std::visit(
         [&](auto& shape) {
             if constexpr (is_primitive<std::decay_t<decltype(shape)>>) {
@@ -52,6 +52,19 @@ void move(Object& object, double scale, double shift) {
             }
         },
         object.shape);
+}
+
+Scene moved(const Scene& scene, double scale, const Vec3& shift) {
+    Scene result = scene;
+    result.camera.eye = moved(scene.camera.eye, scale, shift);
+    result.camera.look_at = moved(scene.camera.look_at, scale, shift);
+    for (Light& light : result.lights) {
+        light.position = moved(light.position, scale, shift);
+    }
+    for (Object& object : result.objects) {
+        move(object, scale, shift);
+    }
+    return result;
 }
 
 void round_to_float(Object& object) {

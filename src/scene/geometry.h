@@ -23,9 +23,10 @@ struct BoundingSphere {
     double radius;
 };
 
-// p·scale + shift on every axis: the move of numerics' scale and distance cases.
-inline Vec3 moved(const Vec3& p, double scale, double shift) {
-    return {p[0] * scale + shift, p[1] * scale + shift, p[2] * scale + shift};
+// p·scale + shift: the move of numerics' scale and distance cases, and the SSE tracer's re-basing on its
+// origin (scale 1, shift −origin: each coordinate one double subtraction).
+inline Vec3 moved(const Vec3& p, double scale, const Vec3& shift) {
+    return {p[0] * scale + shift[0], p[1] * scale + shift[1], p[2] * scale + shift[2]};
 }
 
 // The nearest float, as a double. Out of line on purpose: GCC 12.2's SLP vectorizer at -O2 drops the round
@@ -59,9 +60,9 @@ inline Bounds bounds(const Plane&) {
 inline BoundingSphere bounding_sphere(const Plane&) {
     return {{0, 0, 0}, std::numeric_limits<double>::infinity()};
 }
-// n·(p·s + shift·(1, 1, 1)) = s·d + shift·(n₀ + n₁ + n₂).
-inline Plane moved(const Plane& plane, double scale, double shift) {
-    return {plane.normal, plane.offset * scale + shift * (plane.normal[0] + plane.normal[1] + plane.normal[2])};
+// n·(p·s + shift) = s·d + n·shift.
+inline Plane moved(const Plane& plane, double scale, const Vec3& shift) {
+    return {plane.normal, plane.offset * scale + math::dot(plane.normal, shift)};
 }
 inline Plane rounded_to_float(const Plane& plane) {
     return {rounded_to_float(plane.normal), rounded_to_float(plane.offset)};
@@ -85,7 +86,7 @@ inline Bounds bounds(const Sphere& sphere) {
 inline BoundingSphere bounding_sphere(const Sphere& sphere) {
     return {sphere.center, sphere.radius};
 }
-inline Sphere moved(const Sphere& sphere, double scale, double shift) {
+inline Sphere moved(const Sphere& sphere, double scale, const Vec3& shift) {
     return {moved(sphere.center, scale, shift), sphere.radius * scale};
 }
 inline Sphere rounded_to_float(const Sphere& sphere) {
@@ -118,7 +119,7 @@ inline BoundingSphere bounding_sphere(const Cylinder& cylinder) {
     out.radius = std::sqrt(half_length_squared + cylinder.radius * cylinder.radius);
     return out;
 }
-inline Cylinder moved(const Cylinder& cylinder, double scale, double shift) {
+inline Cylinder moved(const Cylinder& cylinder, double scale, const Vec3& shift) {
     return {moved(cylinder.base, scale, shift), moved(cylinder.cap, scale, shift), cylinder.radius * scale};
 }
 inline Cylinder rounded_to_float(const Cylinder& cylinder) {
@@ -150,7 +151,7 @@ inline BoundingSphere bounding_sphere(const Box& box) {
     out.radius = std::sqrt(half_diagonal_squared);
     return out;
 }
-inline Box moved(const Box& box, double scale, double shift) {
+inline Box moved(const Box& box, double scale, const Vec3& shift) {
     return {moved(box.min, scale, shift), moved(box.max, scale, shift)};
 }
 inline Box rounded_to_float(const Box& box) {
@@ -170,8 +171,10 @@ math::SurfaceBounds<T> surface_bounds_of_box() {
 // A conservative bound: an intersection by the overlap of its children's bounds, a difference by its first
 // child's, a union by the hull of all.
 Bounds bounds(const Object& object);
-// Every primitive moved (p·scale + shift on every axis, lengths times scale).
-void move(Object& object, double scale, double shift);
+// Every primitive moved (p·scale + shift, lengths times scale).
+void move(Object& object, double scale, const Vec3& shift);
+// The whole scene moved so: camera, lights and every object.
+Scene moved(const Scene& scene, double scale, const Vec3& shift);
 // Every coordinate and length rounded to float: the geometry a float tracer holds.
 void round_to_float(Object& object);
 // The largest |coordinate| (and sphere radius, plane offset) of the object's primitives.

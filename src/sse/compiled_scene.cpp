@@ -38,12 +38,16 @@ void add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int3
         object.shape);
 }
 
+// Compiles the scene moved by −origin_of(scene) in double (each coordinate and plane offset rounded once in
+// double, then once to float), so the float records hold small numbers.
 class Compiler {
 public:
-    explicit Compiler(const scene::Scene& scene) : scene_(scene) {}
+    explicit Compiler(const scene::Scene& scene)
+        : origin_(origin_of(scene)), scene_(scene::moved(scene, 1, -origin_)) {}
 
     CompiledScene run() {
         CompiledScene out;
+        out.origin = origin_;
         for (const scene::Material& m : scene_.materials) {
             out.materials.push_back({Color(m.color), static_cast<float>(m.ambient), static_cast<float>(m.diffuse),
                                      static_cast<float>(m.phong), static_cast<float>(m.phong_size),
@@ -101,10 +105,28 @@ private:
         return index;
     }
 
-    const scene::Scene& scene_;
+    scene::Vec3 origin_;
+    scene::Scene scene_;
 };
 
 }  // namespace
+
+// Each primitive's float error is u times its coordinates relative to the origin. Relative to the eye those
+// are the distances from the camera, small for a scene far from the world's origin (a scene 1e7 away loses
+// nothing). A scene around the world's origin seen from far away (a telephoto view) has smaller
+// coordinates where it is: it stays there, and compiles exactly as without re-basing. Ties keep the
+// world's origin.
+scene::Vec3 origin_of(const scene::Scene& scene) {
+    const scene::Vec3& eye = scene.camera.eye;
+    double around_world_origin = 0, around_eye = 0;
+    for (const scene::Object& object : scene.objects) {
+        scene::Object seen_from_eye = object;
+        scene::move(seen_from_eye, 1, -eye);
+        around_world_origin = std::max(around_world_origin, scene::largest_coordinate(object));
+        around_eye = std::max(around_eye, scene::largest_coordinate(seen_from_eye));
+    }
+    return around_eye < around_world_origin ? eye : scene::Vec3{0, 0, 0};
+}
 
 CompiledScene compile(const scene::Scene& scene) {
     return Compiler(scene).run();

@@ -132,7 +132,11 @@ struct Light {
     Color color;
 };
 
+// Everything here is relative to `origin` (origin_of: the eye, for a scene far from the world's origin),
+// so the float numbers are small; the per-ray API and the ray tree translate to and from world coordinates
+// in double.
 struct CompiledScene {
+    scene::Vec3 origin;
     PrimitiveLists primitives;  // top-level primitives; ids are leaf indices
     std::vector<CsgObject> csg_objects;
 
@@ -146,7 +150,7 @@ struct CompiledScene {
     bool any_transparency = false;
     bool any_inverse_direction = false;  // boxes, in CSG too, or CSG bounds
 
-    math::CameraBasis<float> camera;
+    math::CameraBasis<float> camera;  // its eye relative to `origin`
 };
 
 CompiledScene compile(const scene::Scene& scene);

@@ -1,6 +1,7 @@
 // Recording the ray tree (twinray probe) of lane 0, where the per-ray API runs its one ray, through the
 // same RayTree calls as the reference. The tracing code calls these only when it has a tree (one null
-// test); they are cold, out of the packets' way.
+// test); they are cold, out of the packets' way. Points are recorded in world coordinates: the compiled
+// scene's origin added in double (`origin`).
 #pragma once
 
 #include "render/ray_tree.h"
@@ -12,18 +13,22 @@ inline Vec3d lane0(const Vec3x4& v) {
     return recorded(lane(v, 0));
 }
 
+inline Vec3d lane0_in_world(const Vec3x4& point, const scene::Vec3& origin) {
+    return origin + lane0(point);
+}
+
 // The node of lane 0's ray, or -1 when lane 0 is not active (then nothing below it is recorded).
 [[gnu::cold]] inline int record_ray(RayTree& tree, RayKind kind, int depth, int parent, const RayPacket& rays,
-                                    const Hit4& hit) {
+                                    const Hit4& hit, const scene::Vec3& origin) {
     if ((movemask(rays.active) & 1) == 0) {
         return -1;
     }
-    int index = tree.add(kind, depth, parent, lane0(rays.origin), lane0(rays.direction));
+    int index = tree.add(kind, depth, parent, lane0_in_world(rays.origin, origin), lane0(rays.direction));
     if (movemask(hit.hit) & 1) {
         alignas(16) std::int32_t leaf[4];
         hit.leaf.store(leaf);
-        tree.set_hit(index, leaf[0], static_cast<double>(hit.t.lane(0)), lane0(hit.point), lane0(hit.normal),
-                     (movemask(hit.entering) & 1) != 0);
+        tree.set_hit(index, leaf[0], static_cast<double>(hit.t.lane(0)), lane0_in_world(hit.point, origin),
+                     lane0(hit.normal), (movemask(hit.entering) & 1) != 0);
     }
     return index;
 }
@@ -31,7 +36,7 @@ inline Vec3d lane0(const Vec3x4& v) {
 // Lane 0's light: facing away (not in `lit`: no shadow ray), else its shadow ray and transmittance.
 template <typename P>
 [[gnu::cold]] void record_light(RayTree& tree, int node, vfloat4 lambert, vbool4 lit, const Vec3x4& shadow_origin,
-                                Vec3 light_position, vfloat4 transmittance) {
+                                Vec3 light_position, vfloat4 transmittance, const scene::Vec3& origin) {
     if (node < 0) {
         return;
     }
@@ -40,7 +45,7 @@ template <typename P>
         tree.add_light_facing_away(node, n_dot_l);
         return;
     }
-    tree.add_light(node, n_dot_l, static_cast<double>(transmittance.lane(0)), lane0(shadow_origin),
+    tree.add_light(node, n_dot_l, static_cast<double>(transmittance.lane(0)), lane0_in_world(shadow_origin, origin),
                    lane0(normalize<P>(broadcast(light_position) - shadow_origin)));
 }
 

@@ -48,7 +48,7 @@ public:
                  RayTree* tree = nullptr, RayKind kind = RayKind::primary, int parent = -1) const {
         ray_count += lane_count(rays.active);
         Hit4 hit = intersect(rays, candidates);
-        int node = tree != nullptr ? record_ray(*tree, kind, depth, parent, rays, hit) : -1;
+        int node = tree != nullptr ? record_ray(*tree, kind, depth, parent, rays, hit, scene_.origin) : -1;
         Vec3x4 background = broadcast(scene_.background);
         if (none(hit.hit)) {
             if (tree != nullptr) {
@@ -129,7 +129,8 @@ private:
             ray_count += lane_count(lit);
             vfloat4 shadow = shadow_(spawn_origin(hit, to_light), light.position, lit);
             if (tree != nullptr) {
-                record_light<P>(*tree, node, lambert, lit, spawn_origin(hit, to_light), light.position, shadow);
+                record_light<P>(*tree, node, lambert, lit, spawn_origin(hit, to_light), light.position, shadow,
+                                scene_.origin);
             }
             vbool4 reached = lit & (shadow > zero);
             if (none(reached)) {

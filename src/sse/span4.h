@@ -22,24 +22,6 @@ struct RayPacket {
     Vec3x4 inverse_direction;  // 1/d (reciprocal<P>); filled only for scenes whose kernels use it
     vbool4 active;             // lanes that carry a ray; the others hold a copy of an active ray
 
-    // Lane i traces rays[i]; lanes where `active` is false repeat rays[first active lane].
-    RayPacket(const Ray rays[4], vbool4 active_lanes) : active(active_lanes) {
-        int mask = movemask(active_lanes);
-        int filler = mask == 0 ? 0 : __builtin_ctz(static_cast<unsigned>(mask));
-        alignas(16) float lanes[6][4];
-        for (int lane = 0; lane < 4; ++lane) {
-            const Ray& ray = rays[((mask >> lane) & 1) ? lane : filler];
-            for (int axis = 0; axis < 3; ++axis) {
-                lanes[axis][lane] = ray.origin[axis];
-                lanes[3 + axis][lane] = ray.direction[axis];
-            }
-        }
-        for (int axis = 0; axis < 3; ++axis) {
-            origin[axis] = vfloat4::load(lanes[axis]);
-            direction[axis] = vfloat4::load(lanes[3 + axis]);
-        }
-    }
-
     RayPacket(const Vec3x4& origins, const Vec3x4& directions, vbool4 active_lanes)
         : origin(origins), direction(directions), active(active_lanes) {}
 

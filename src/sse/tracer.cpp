@@ -20,10 +20,31 @@
 namespace twinray::sse {
 namespace {
 
+// A function, not a constant: no SSE code may run at start-up, before the CPU check.
+vbool4 lane_0_only() {
+    return vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))};
+}
+
+// A world ray as the compiled scene holds it: its origin minus the scene's, subtracted in double and rounded
+// once to float (exact for primary_ray's rays, whose origin is the compiled eye translated back).
+struct RelativeRay {
+    Vec3 origin;
+    Vec3 direction;
+};
+
+RelativeRay relative_to(const CompiledScene& scene, const Ray& ray) {
+    return {Vec3(ray.origin - scene.origin), ray.direction};
+}
+
+// The compiled scene's point p back in world coordinates: origin + p in double, one rounding of at most
+// 2⁻⁵³·|origin + p| (far below the float point's own u·|p|).
+Vec3d to_world(const CompiledScene& scene, const Vec3& point) {
+    return scene.origin + Vec3d(point);
+}
+
 // A single ray through the packet path: all four lanes carry it, only lane 0 is active.
-RayPacket single_ray_packet(const Ray& ray) {
-    const Ray rays[4] = {ray, ray, ray, ray};
-    return RayPacket(rays, vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))});
+RayPacket single_ray_packet(const RelativeRay& ray) {
+    return RayPacket(broadcast(ray.origin), broadcast(ray.direction), lane_0_only());
 }
 
 int knob_bits(const Precision& precision) {
@@ -82,12 +103,9 @@ Tracer::Tracer(const scene::Scene& scene, const Precision& precision)
 
 Tracer::~Tracer() = default;
 
-bool is_traceable(const Ray& ray) {
-    return math::is_traceable(ray.origin, ray.direction);
-}
-
-std::optional<Hit> Tracer::intersect(const Ray& ray) const {
-    if (!is_traceable(ray)) {
+std::optional<Hit> Tracer::intersect(const Ray& world_ray) const {
+    RelativeRay ray = relative_to(*scene_, world_ray);
+    if (!math::is_traceable(ray.origin, ray.direction)) {
         return std::nullopt;
     }
     ScopedFlushDenormals denormals(precision_.flush_denormals);
@@ -100,7 +118,7 @@ std::optional<Hit> Tracer::intersect(const Ray& ray) const {
     }
     Hit hit;
     hit.t = hit4.t.lane(0);
-    hit.point = lane(hit4.point, 0);
+    hit.point = to_world(*scene_, lane(hit4.point, 0));
     hit.normal = lane(hit4.normal, 0);
     alignas(16) std::int32_t leaf[4];
     hit4.leaf.store(leaf);
@@ -110,8 +128,9 @@ std::optional<Hit> Tracer::intersect(const Ray& ray) const {
     return hit;
 }
 
-Color Tracer::trace(const Ray& ray, int depth, std::uint64_t* rays, RayTree* tree) const {
-    if (!is_traceable(ray)) {
+Color Tracer::trace(const Ray& world_ray, int depth, std::uint64_t* rays, RayTree* tree) const {
+    RelativeRay ray = relative_to(*scene_, world_ray);
+    if (!math::is_traceable(ray.origin, ray.direction)) {
         return scene_->background;
     }
     ScopedFlushDenormals denormals(precision_.flush_denormals);
@@ -128,10 +147,9 @@ Color Tracer::trace(const Ray& ray, int depth, std::uint64_t* rays, RayTree* tre
 
 Ray Tracer::primary_ray(int x, int y, int width, int height) const {
     RayPacket packet = with_precision_policy(precision_, [&](auto policy) {
-        return CameraPacket(*scene_, width, height)
-            .template rays<decltype(policy)>(x, y, vbool4{_mm_castsi128_ps(_mm_setr_epi32(-1, 0, 0, 0))});
+        return CameraPacket(*scene_, width, height).template rays<decltype(policy)>(x, y, lane_0_only());
     });
-    return {lane(packet.origin, 0), lane(packet.direction, 0)};
+    return {to_world(*scene_, lane(packet.origin, 0)), lane(packet.direction, 0)};
 }
 
 // Tiles of 16 × 16 pixels are handed to worker threads; within a tile, 2 × 2 pixels make a packet

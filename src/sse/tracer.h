@@ -19,24 +19,23 @@
 
 namespace twinray::sse {
 
-// `direction` is of unit length, so t is a distance.
+// In world coordinates. The origin is in double: the tracer subtracts its own origin (origin_of) in double
+// and rounds the difference to float, so a ray far from the world's origin but near the camera is held to
+// float's precision of its distance from the camera, not of its coordinates. `direction` is of unit
+// length, so t is a distance.
 struct Ray {
-    Vec3 origin;
+    Vec3d origin;
     Vec3 direction;
 };
 
 struct Hit {
     float t = 0;
-    Vec3 point;     // re-projected onto the primitive's surface
+    Vec3d point;    // re-projected onto the primitive's surface; world coordinates (origin_of + float point)
     Vec3 normal;    // unit, facing the ray
     int leaf = -1;  // the primitive hit (Scene::leaf_paths)
     bool entering = false;
     float spawn_offset = 0;  // how far off the surface secondary rays start
 };
-
-// As the reference's (reference/ray.h): every component finite and the direction of unit length within
-// 1e-3. The per-ray API answers any other ray with a miss (intersect) or the background (trace).
-bool is_traceable(const Ray& ray);
 
 // The speed/accuracy knobs (docs/performance.md). The default is the exact tracer; each knob trades
 // accuracy for speed. The four kernel knobs select a separately compiled tracer (precision.h), built
@@ -59,6 +58,11 @@ std::string built_precisions();
 // "exact", or the knobs joined by '+' ("rcp+rsqrt+ftz").
 std::string precision_name(const Precision& precision);
 
+// The point the tracer compiles a scene relative to, in double (re-basing, docs/numerics.md): the eye
+// where that makes the scene's coordinates smaller than the world's origin does (then every number the
+// float kernels see is a distance from the camera), else the world's origin. Results are translated back.
+scene::Vec3 origin_of(const scene::Scene& scene);
+
 struct CompiledScene;
 
 class Tracer {
@@ -68,7 +72,10 @@ public:
     Tracer(const Tracer&) = delete;
     Tracer& operator=(const Tracer&) = delete;
 
-    std::optional<Hit> intersect(const Ray& ray) const;  // a miss for a ray that is not is_traceable
+    // As the reference's (reference/ray.h), a ray is traced only if every component of its origin relative
+    // to origin_of (in float) and of its direction is finite and the direction is of unit length within
+    // 1e-3; any other ray is a miss (intersect) or the background (trace).
+    std::optional<Hit> intersect(const Ray& ray) const;
     // `tree`, if given, receives every ray traced, what it hit, each light's visibility and its colours
     // (twinray probe); the colour is the same with or without it.
     Color trace(const Ray& ray, int depth, std::uint64_t* rays = nullptr, RayTree* tree = nullptr) const;
