@@ -1,6 +1,6 @@
 #include "image/openimageio_module.h"
 
-#include <dlfcn.h>
+#include "io/shared_module.h"
 
 #include <stdexcept>
 #include <string>
@@ -10,16 +10,8 @@ namespace {
 
 // The module's path in this build tree (TWINRAY_OPENIMAGEIO_MODULE, set by src/CMakeLists.txt).
 const OpenImageIoFunctions& load_module() {
-    void* module = dlopen(TWINRAY_OPENIMAGEIO_MODULE, RTLD_LAZY | RTLD_LOCAL);
-    if (!module) {
-        throw std::runtime_error(std::string("cannot load the OpenImageIO module: ") + dlerror());
-    }
-    using Entry = const OpenImageIoFunctions* (*)();
-    auto entry = reinterpret_cast<Entry>(dlsym(module, "twinray_openimageio_functions"));
-    if (!entry) {
-        throw std::runtime_error(std::string("the OpenImageIO module is broken: ") + dlerror());
-    }
-    return *entry();
+    return io::load_shared_module<OpenImageIoFunctions>(TWINRAY_OPENIMAGEIO_MODULE, "twinray_openimageio_functions",
+                                                        "the OpenImageIO module");
 }
 
 // Loaded once per process, by whichever thread asks first; a failed load is retried on the next call.

@@ -1,8 +1,7 @@
 #include "peers/embree_peer.h"
 
+#include "io/shared_module.h"
 #include "peers/embree_module.h"
-
-#include <dlfcn.h>
 
 #include <stdexcept>
 
@@ -11,16 +10,8 @@ namespace {
 
 // The module's path in this build tree (TWINRAY_EMBREE_MODULE, set by src/cli/CMakeLists.txt).
 const EmbreeFunctions& load_module() {
-    void* module = dlopen(TWINRAY_EMBREE_MODULE, RTLD_LAZY | RTLD_LOCAL);
-    if (!module) {
-        throw std::runtime_error(std::string("cannot load the Embree module: ") + dlerror());
-    }
-    using Entry = const EmbreeFunctions* (*)();
-    auto entry = reinterpret_cast<Entry>(dlsym(module, "twinray_embree_functions"));
-    if (!entry) {
-        throw std::runtime_error(std::string("the Embree module is broken: ") + dlerror());
-    }
-    return *entry();
+    return io::load_shared_module<EmbreeFunctions>(TWINRAY_EMBREE_MODULE, "twinray_embree_functions",
+                                                   "the Embree module");
 }
 
 const EmbreeFunctions& module_functions() {
