@@ -47,6 +47,18 @@ inline Bounds around(const Vec3& a, const Vec3& b, double pad) {
     return out;
 }
 
+// The sphere around the segment a–b widened by `pad`: centre the midpoint, radius √(|b − a|²/4 + pad²).
+inline BoundingSphere sphere_around(const Vec3& a, const Vec3& b, double pad) {
+    BoundingSphere out{};
+    double half_length_squared = 0;
+    for (int i = 0; i < 3; ++i) {
+        out.center[i] = 0.5 * (a[i] + b[i]);
+        half_length_squared += 0.25 * (b[i] - a[i]) * (b[i] - a[i]);
+    }
+    out.radius = std::sqrt(half_length_squared + pad * pad);
+    return out;
+}
+
 inline double largest_coordinate(const Vec3& v) {
     return std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
 }
@@ -110,14 +122,7 @@ inline Bounds bounds(const Cylinder& cylinder) {
     return around(cylinder.base, cylinder.cap, cylinder.radius);
 }
 inline BoundingSphere bounding_sphere(const Cylinder& cylinder) {
-    BoundingSphere out{};
-    double half_length_squared = 0;
-    for (int i = 0; i < 3; ++i) {
-        out.center[i] = 0.5 * (cylinder.base[i] + cylinder.cap[i]);
-        half_length_squared += 0.25 * (cylinder.cap[i] - cylinder.base[i]) * (cylinder.cap[i] - cylinder.base[i]);
-    }
-    out.radius = std::sqrt(half_length_squared + cylinder.radius * cylinder.radius);
-    return out;
+    return sphere_around(cylinder.base, cylinder.cap, cylinder.radius);
 }
 inline Cylinder moved(const Cylinder& cylinder, double scale, const Vec3& shift) {
     return {moved(cylinder.base, scale, shift), moved(cylinder.cap, scale, shift), cylinder.radius * scale};
@@ -142,14 +147,7 @@ inline Bounds bounds(const Box& box) {
     return around(box.min, box.max, 0.0);
 }
 inline BoundingSphere bounding_sphere(const Box& box) {
-    BoundingSphere out{};
-    double half_diagonal_squared = 0;
-    for (int i = 0; i < 3; ++i) {
-        out.center[i] = 0.5 * (box.min[i] + box.max[i]);
-        half_diagonal_squared += 0.25 * (box.max[i] - box.min[i]) * (box.max[i] - box.min[i]);
-    }
-    out.radius = std::sqrt(half_diagonal_squared);
-    return out;
+    return sphere_around(box.min, box.max, 0.0);
 }
 inline Box moved(const Box& box, double scale, const Vec3& shift) {
     return {moved(box.min, scale, shift), moved(box.max, scale, shift)};
