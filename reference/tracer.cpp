@@ -118,6 +118,7 @@ Tracer<T>::Tracer(const scene::Scene& scene)
       background_(scene.background),
       ambient_light_(scene.ambient_light),
       max_depth_(scene.max_depth),
+      depth_control_(scene),
       leaf_materials_(scene.leaf_materials) {
     for (const scene::Material& material : scene.materials) {
         materials_.push_back(convert<T>(material));
@@ -203,36 +204,51 @@ Vec3<T> Tracer<T>::spawn_origin(const Hit<T>& hit, Vec3<T> direction) {
 }
 
 template <typename T>
-Color<T> Tracer<T>::trace(const Ray<T>& ray, int depth, std::uint64_t* rays, RayTree* tree) const {
+Color<T> Tracer<T>::trace(const Ray<T>& ray, int depth, TraceTally* tally, RayTree* tree) const {
     if (!is_traceable(ray)) {
         return background_;
     }
-    std::uint64_t count = 0;
-    Color<T> color = trace_ray(ray, depth, count, tree, RayKind::primary, -1);
-    if (rays != nullptr) {
-        *rays += count;
+    TreeWalk walk{0, {}, tree};
+    Color<T> color = trace_ray(ray, depth, scene::DepthControl::primary(), walk, RayKind::primary, -1);
+    if (tally != nullptr) {
+        tally->add_pixel(walk.rays, walk.ledger.dropped, walk.ledger.over_budget);
     }
     return color;
 }
 
 template <typename T>
-Color<T> Tracer<T>::trace_ray(const Ray<T>& ray, int depth, std::uint64_t& rays, RayTree* tree, RayKind kind,
+Color<T> Tracer<T>::trace_ray(const Ray<T>& ray, int depth, const scene::RayShare& share, TreeWalk& walk, RayKind kind,
                               int parent) const {
-    ++rays;
+    ++walk.rays;
+    ++walk.ledger.traced;
     std::optional<Hit<T>> hit = first_hit(ray);
-    int node = record_ray(tree, kind, depth, parent, ray, hit);
-    Color<T> color = hit ? shade(ray, *hit, depth, rays, tree, node) : background_;
-    if (tree != nullptr) [[unlikely]] {
-        tree->set_total_color(node, recorded(color));
+    int node = record_ray(walk.tree, kind, depth, parent, ray, hit);
+    Color<T> color = hit ? shade(ray, *hit, depth, share, walk, node) : background_;
+    if (walk.tree != nullptr) [[unlikely]] {
+        walk.tree->set_total_color(node, recorded(color));
     }
     return color;
+}
+
+template <typename T>
+bool Tracer<T>::admits(const scene::RayShare& share, int depth, TreeWalk& walk, RayKind kind, int parent) const {
+    scene::DropReason reason = depth_control_.decide(share, depth, walk.ledger);
+    if (reason == scene::DropReason::traced) {
+        return true;
+    }
+    if (walk.tree != nullptr) [[unlikely]] {
+        walk.tree->add_dropped(parent, kind, depth, share.weight, share.weight * depth_control_.radiance_bound(depth),
+                               reason == scene::DropReason::budget);
+    }
+    return false;
 }
 
 // I = ambient·C·ambient_light + Σ_lights shadow·(diffuse·C·Lc·(N·L) + phong·Lc·max(0, R·L)^phong_size)
 //   + reflection·I(reflected) + transmission·I(refracted)          (docs/scene-format.md, "Shading")
 template <typename T>
-Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays, RayTree* tree,
+Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, const scene::RayShare& share, TreeWalk& walk,
                           int node) const {
+    RayTree* tree = walk.tree;
     const Material<T>& m = material_of(hit.leaf);
     Color<T> color = m.ambient * (m.color * ambient_light_);
     Vec3<T> mirror = reflect(ray.direction, hit.normal);
@@ -245,7 +261,7 @@ Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::
             }
             continue;
         }
-        ++rays;
+        ++walk.rays;
         Vec3<T> shadow_origin = spawn_origin(hit, to_light);
         T shadow = shadow_transmittance(shadow_origin, light.position);
         if (tree != nullptr) [[unlikely]] {
@@ -265,19 +281,31 @@ Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::
     if (depth >= max_depth_) {
         return color;
     }
+    // Each child is traced only if the depth control admits it (scene/depth_control.h).
+    int material = leaf_materials_[static_cast<std::size_t>(hit.leaf)];
+    std::uint32_t traced_before_children = walk.ledger.traced;
     T reflection = m.reflection;
+    bool total_internal = false;
     if (m.transmission > T(0)) {
         T eta = hit.entering ? T(1) / m.ior : m.ior;
         if (std::optional<Vec3<T>> refracted = refract(ray.direction, hit.normal, eta)) {
-            Ray<T> next{spawn_origin(hit, *refracted), *refracted};
-            color += m.transmission * trace_ray(next, depth + 1, rays, tree, RayKind::refracted, node);
+            scene::RayShare child = depth_control_.refracted(share, material);
+            if (admits(child, depth + 1, walk, RayKind::refracted, node)) {
+                Ray<T> next{spawn_origin(hit, *refracted), *refracted};
+                color += m.transmission * trace_ray(next, depth + 1, child, walk, RayKind::refracted, node);
+            }
         } else {
-            reflection += m.transmission;  // total internal reflection
+            reflection += m.transmission;
+            total_internal = true;
         }
     }
     if (reflection > T(0)) {
-        Ray<T> next{spawn_origin(hit, mirror), mirror};
-        color += reflection * trace_ray(next, depth + 1, rays, tree, RayKind::reflected, node);
+        scene::RayShare child =
+            depth_control_.reflected(share, material, total_internal, walk.ledger.traced - traced_before_children);
+        if (admits(child, depth + 1, walk, RayKind::reflected, node)) {
+            Ray<T> next{spawn_origin(hit, mirror), mirror};
+            color += reflection * trace_ray(next, depth + 1, child, walk, RayKind::reflected, node);
+        }
     }
     return color;
 }
@@ -295,18 +323,20 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
     Tracer<T> tracer(scene);
     Image image(size.width, size.height);
-    std::uint64_t rays = parallel_for(
+    TraceTally tally = parallel_sum<TraceTally>(
         size.height, options.threads,
         [&](int y) {
-            std::uint64_t row_rays = 0;
+            TraceTally row;
             for (int x = 0; x < size.width; ++x) {
-                Color<T> c = tracer.trace(tracer.primary_ray(x, y, size.width, size.height), 1, &row_rays);
+                TraceTally pixel;
+                Color<T> c = tracer.trace(tracer.primary_ray(x, y, size.width, size.height), 1, &pixel);
                 image.at(x, y) = {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
+                row.add(pixel, y * size.width + x);
             }
-            return row_rays;
+            return row;
         },
         options.progress, options.cancel);
-    return {std::move(image), rays};
+    return {std::move(image), tally};
 }
 
 template class Tracer<double>;

@@ -11,6 +11,7 @@
 #include "reference/sphere.h"
 #include "render/ray_tree.h"
 #include "render/render.h"
+#include "scene/depth_control.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -67,12 +68,13 @@ public:
     // The first surface along the ray with t > 0; a miss for a ray that is not is_traceable (ray.h).
     std::optional<Hit<T>> intersect(const Ray<T>& ray) const;
 
-    // The colour the ray sees; `depth` is 1 for primary rays. `rays`, if given, is incremented for
-    // every ray this traces (this one, shadow rays and secondary rays). `tree`, if given, receives every
-    // ray traced, what it hit, each light's visibility and its colours (twinray probe); the colour is
-    // the same with or without it. A ray that is not is_traceable (ray.h) sees the background, and nothing
-    // is traced or recorded.
-    Color<T> trace(const Ray<T>& ray, int depth, std::uint64_t* rays = nullptr, RayTree* tree = nullptr) const;
+    // The colour the ray sees; `depth` is 1 for primary rays. The ray is one pixel's tree: it has the whole
+    // ray budget (scene/depth_control.h). `tally`, if given, adds every ray this traces (this one, shadow
+    // rays and secondary rays), the secondary rays the depth control left out and whether the budget ran
+    // out. `tree`, if given, receives every ray traced, what it hit, each light's visibility, its colours
+    // and the rays left out (twinray probe); the colour is the same with or without it. A ray that is not
+    // is_traceable (ray.h) sees the background, and nothing is traced or recorded.
+    Color<T> trace(const Ray<T>& ray, int depth, TraceTally* tally = nullptr, RayTree* tree = nullptr) const;
 
     // The ray through the centre of pixel (x, y) of a width × height image, (0, 0) top-left.
     Ray<T> primary_ray(int x, int y, int width, int height) const;
@@ -87,17 +89,28 @@ public:
     const Material<T>& material_of(int leaf) const { return materials_[leaf_materials_[leaf]]; }
 
 private:
+    // One pixel's tree as it is traced: rays counted, what the depth control left out, the recording.
+    struct TreeWalk {
+        std::uint64_t rays = 0;
+        scene::PixelLedger ledger;
+        RayTree* tree = nullptr;
+    };
+
     // intersect() without the check of the ray: every ray the tracer makes itself is traceable.
     std::optional<Hit<T>> first_hit(const Ray<T>& ray) const;
-    // trace() of one ray of the tree, recorded (if `tree`) as a `kind` child of node `parent`.
-    Color<T> trace_ray(const Ray<T>& ray, int depth, std::uint64_t& rays, RayTree* tree, RayKind kind,
+    // trace() of one ray of the tree, recorded (if walk.tree) as a `kind` child of node `parent`.
+    Color<T> trace_ray(const Ray<T>& ray, int depth, const scene::RayShare& share, TreeWalk& walk, RayKind kind,
                        int parent) const;
-    // `node`: this hit's ray in `tree`, if recording.
-    Color<T> shade(const Ray<T>& ray, const Hit<T>& hit, int depth, std::uint64_t& rays, RayTree* tree, int node) const;
+    // `node`: this hit's ray in walk.tree, if recording.
+    Color<T> shade(const Ray<T>& ray, const Hit<T>& hit, int depth, const scene::RayShare& share, TreeWalk& walk,
+                   int node) const;
+    // Whether the depth control traces the child ray `share` of node `parent`; recorded if not.
+    bool admits(const scene::RayShare& share, int depth, TreeWalk& walk, RayKind kind, int parent) const;
 
     math::CameraBasis<T> camera_;
     Color<T> background_, ambient_light_;
     int max_depth_;
+    scene::DepthControl depth_control_;
     std::vector<Material<T>> materials_;
     std::vector<int> leaf_materials_;
     std::vector<Light<T>> lights_;

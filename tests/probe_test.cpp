@@ -241,22 +241,22 @@ TEST(ProbeTest, RecordingATreeChangesNeitherTheColourNorTheRayCount) {
             for (int x = 5; x < scene.width; x += 23) {
                 SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
                 reference::Ray<double> ray = reference.primary_ray(x, y, scene.width, scene.height);
-                std::uint64_t plain_rays = 0, recorded_rays = 0;
+                TraceTally plain_rays, recorded_rays;
                 RayTree tree;
                 reference::Color<double> plain = reference.trace(ray, 1, &plain_rays);
                 reference::Color<double> recorded = reference.trace(ray, 1, &recorded_rays, &tree);
                 EXPECT_EQ(plain, recorded);
-                EXPECT_EQ(plain_rays, recorded_rays);
+                EXPECT_EQ(plain_rays.rays, recorded_rays.rays);
                 ASSERT_FALSE(tree.nodes.empty());
                 EXPECT_EQ(triple_of(tree.nodes[0].total), triple_of(plain));
                 if (fast) {
                     sse::Ray sse_ray = fast->primary_ray(x, y, scene.width, scene.height);
-                    std::uint64_t sse_plain_rays = 0, sse_recorded_rays = 0;
+                    TraceTally sse_plain_rays, sse_recorded_rays;
                     RayTree sse_tree;
                     sse::Color sse_plain = fast->trace(sse_ray, 1, &sse_plain_rays);
                     sse::Color sse_recorded = fast->trace(sse_ray, 1, &sse_recorded_rays, &sse_tree);
                     EXPECT_EQ(triple_of(sse_plain), triple_of(sse_recorded));
-                    EXPECT_EQ(sse_plain_rays, sse_recorded_rays);
+                    EXPECT_EQ(sse_plain_rays.rays, sse_recorded_rays.rays);
                     ASSERT_FALSE(sse_tree.nodes.empty());
                     EXPECT_EQ(triple_of(sse_tree.nodes[0].total), triple_of(sse_plain));
                 }
@@ -269,9 +269,9 @@ TEST(ProbeTest, RecordingATreeChangesNeitherTheColourNorTheRayCount) {
 TEST(ProbeTest, TheTreeHoldsEveryRayTheTracerCounts) {
     scene::Scene scene = scene::load_scene(scene_path("showcase.json"));
     reference::Tracer<double> reference(scene);
-    std::uint64_t rays = 0;
+    TraceTally tally;
     RayTree tree;
-    reference.trace(reference.primary_ray(240, 140, scene.width, scene.height), 1, &rays, &tree);
+    reference.trace(reference.primary_ray(240, 140, scene.width, scene.height), 1, &tally, &tree);
     std::uint64_t recorded = 0;
     for (const RayNode& node : tree.nodes) {
         ++recorded;
@@ -280,7 +280,7 @@ TEST(ProbeTest, TheTreeHoldsEveryRayTheTracerCounts) {
         }
         EXPECT_EQ(node.lights.size(), node.hit ? scene.lights.size() : 0u);
     }
-    EXPECT_EQ(recorded, rays);
+    EXPECT_EQ(recorded, tally.rays);
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -100,11 +100,11 @@ TEST(ReferenceRender, RenderIsBitIdenticalForOneTwoAndThreeThreads) {
 }
 
 TEST(ReferenceRender, RayCountIsTheSameForAnyThreadCount) {
-    std::uint64_t one = render_double(1).rays;
+    std::uint64_t one = render_double(1).tally.rays;
     // Primary rays alone are 96·72; the scene's shadows, mirrors and glass add many more.
     EXPECT_GT(one, 2u * 96u * 72u);
-    EXPECT_EQ(render_double(2).rays, one);
-    EXPECT_EQ(render_double(3).rays, one);
+    EXPECT_EQ(render_double(2).tally.rays, one);
+    EXPECT_EQ(render_double(3).tally.rays, one);
 }
 
 // The render is the tracer run per pixel: pixel (x, y) holds trace(primary_ray(x, y)) at depth 1,
@@ -113,11 +113,11 @@ TEST(ReferenceRender, EveryPixelIsTheTracedPrimaryRayOfThatPixel) {
     twinray::scene::Scene scene = busy_scene();
     RenderResult result = render_double(2);
     reference::Tracer<double> tracer(scene);
-    std::uint64_t rays = 0;
+    twinray::TraceTally tally;
     int mismatches = 0;
     for (int y = 0; y < 72; ++y) {
         for (int x = 0; x < 96; ++x) {
-            auto c = tracer.trace(tracer.primary_ray(x, y, 96, 72), 1, &rays);
+            auto c = tracer.trace(tracer.primary_ray(x, y, 96, 72), 1, &tally);
             twinray::Rgb expected{static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
             if (!(result.image.at(x, y) == expected) && ++mismatches <= 5) {
                 ADD_FAILURE() << "pixel (" << x << ", " << y << ") is " << result.image.at(x, y).r << ", "
@@ -127,7 +127,7 @@ TEST(ReferenceRender, EveryPixelIsTheTracedPrimaryRayOfThatPixel) {
         }
     }
     EXPECT_EQ(mismatches, 0);
-    EXPECT_EQ(result.rays, rays);
+    EXPECT_EQ(result.tally.rays, tally.rays);
 }
 
 TEST(ReferenceRender, SizeInTheOptionsReplacesTheScenesKeepingItsAspectRatio) {

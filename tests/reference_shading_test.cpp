@@ -23,9 +23,9 @@ namespace test = twinray::test;
 
 constexpr double tolerance = 1e-12;
 
-V trace(const twinray::scene::Scene& scene, V origin, V direction, std::uint64_t* rays = nullptr) {
+V trace(const twinray::scene::Scene& scene, V origin, V direction, twinray::TraceTally* tally = nullptr) {
     Tracer<double> tracer(scene);
-    return tracer.trace({origin, normalize(direction)}, 1, rays);
+    return tracer.trace({origin, normalize(direction)}, 1, tally);
 }
 
 V mirror(V d, V n) {
@@ -190,9 +190,10 @@ TEST(ReferenceShading, MirrorFloorAddsReflectionTimesTheLitSphereItReflects) {
 // The primary ray, the floor's shadow ray, the mirrored ray and the ball's shadow ray.
 TEST(ReferenceShading, TraceCountsThePrimaryShadowAndSecondaryRays) {
     MirrorAndBall setup;
-    std::uint64_t rays = 10;
-    trace(setup.builder.build(), V(0, 1, 0), V(1, -1, 0), &rays);
-    EXPECT_EQ(rays, 10u + 4u);
+    twinray::TraceTally tally;
+    tally.rays = 10;
+    trace(setup.builder.build(), V(0, 1, 0), V(1, -1, 0), &tally);
+    EXPECT_EQ(tally.rays, 10u + 4u);
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -108,16 +108,17 @@ TEST_F(SseTracerTest, TracingRaysMakesNoHeapAllocation) {
     for (const char* name : {"showcase.json", "csg.json", "complete2.json"}) {
         twinray::scene::Scene scene = load(name);
         twinray::sse::Tracer tracer(scene);
-        std::uint64_t rays = 0;
+        twinray::TraceTally tally;
         long before = heap_allocations.load();
         for (int y = 0; y < scene.height; y += 7) {
             for (int x = 0; x < scene.width; x += 7) {
-                tracer.trace(tracer.primary_ray(x, y, scene.width, scene.height), 1, &rays);
+                tracer.trace(tracer.primary_ray(x, y, scene.width, scene.height), 1, &tally);
             }
         }
         long allocations = heap_allocations.load() - before;
-        EXPECT_EQ(allocations, 0) << name << ": " << allocations << " allocations while tracing " << rays << " rays";
-        EXPECT_GT(rays, 1000u) << name;
+        EXPECT_EQ(allocations, 0) << name << ": " << allocations << " allocations while tracing " << tally.rays
+                                  << " rays";
+        EXPECT_GT(tally.rays, 1000u) << name;
     }
 }
 
@@ -138,11 +139,13 @@ TEST_F(SseTracerTest, RenderedPixelsEqualTheSingleRayTraceOfEachPixel) {
         twinray::RenderResult result = twinray::sse::render(scene, options);
         twinray::sse::Tracer tracer(scene);
         const int width = result.image.width(), height = result.image.height();
-        std::uint64_t rays = 0;
+        twinray::TraceTally tally;
         int mismatches = 0;
         for (int y = 0; y < height; ++y) {
             for (int x = 0; x < width; ++x) {
-                twinray::sse::Color c = tracer.trace(tracer.primary_ray(x, y, width, height), 1, &rays);
+                twinray::TraceTally traced;
+                twinray::sse::Color c = tracer.trace(tracer.primary_ray(x, y, width, height), 1, &traced);
+                tally.add(traced, static_cast<std::int64_t>(y) * width + x);
                 const twinray::Rgb& pixel = result.image.at(x, y);
                 if (!(pixel.r == c.x && pixel.g == c.y && pixel.b == c.z) && ++mismatches <= 3) {
                     ADD_FAILURE() << entry.path().filename() << " pixel " << x << "," << y << ": rendered " << pixel.r
@@ -152,7 +155,10 @@ TEST_F(SseTracerTest, RenderedPixelsEqualTheSingleRayTraceOfEachPixel) {
             }
         }
         EXPECT_EQ(mismatches, 0) << entry.path().filename();
-        EXPECT_EQ(rays, result.rays) << entry.path().filename();
+        EXPECT_EQ(tally.rays, result.tally.rays) << entry.path().filename();
+        EXPECT_EQ(tally.dropped_rays, result.tally.dropped_rays) << entry.path().filename();
+        EXPECT_EQ(tally.pixels_over_budget, result.tally.pixels_over_budget) << entry.path().filename();
+        EXPECT_EQ(tally.first_pixel_over_budget, result.tally.first_pixel_over_budget) << entry.path().filename();
     }
 }
 
@@ -166,7 +172,7 @@ TEST_F(SseTracerTest, ImageIsBitIdenticalForOneTwoAndThreeThreads) {
         options.threads = threads;
         twinray::RenderResult many = twinray::sse::render(scene, options);
         EXPECT_TRUE(many.image == one.image) << threads << " threads";
-        EXPECT_EQ(many.rays, one.rays) << threads << " threads";
+        EXPECT_EQ(many.tally.rays, one.tally.rays) << threads << " threads";
     }
 }
 

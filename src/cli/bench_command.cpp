@@ -47,7 +47,7 @@ std::vector<Timings> time_renders(const std::vector<Configuration>& configuratio
             RenderResult result = render_with(configuration.tracer, scene, options, configuration.precision);
             double seconds = seconds_since(start);
             timings[i].seconds.push_back(seconds);
-            timings[i].mrays.push_back(static_cast<double>(result.rays) / seconds / 1e6);
+            timings[i].mrays.push_back(static_cast<double>(result.tally.rays) / seconds / 1e6);
             if (last_images != nullptr && run + 1 == runs) {
                 (*last_images)[i] = std::move(result.image);
             }

@@ -68,10 +68,20 @@ Json tracer_json(const scene::Scene& scene, const TracedTree& traced) {
     for (std::size_t i = 0; i < traced.tree.nodes.size(); ++i) {
         nodes.push_back(node_json(scene, traced.tree, static_cast<int>(i)));
     }
+    Json dropped = Json::array();
+    for (const DroppedRay& ray : traced.tree.dropped) {
+        dropped.push_back({{"parent", ray.parent},
+                           {"kind", ray_kind_name(ray.kind)},
+                           {"depth", ray.depth},
+                           {"weight", ray.weight},
+                           {"bound", ray.bound},
+                           {"reason", ray.for_budget ? "budget" : "cutoff"}});
+    }
     return Json{{"tracer", traced.label},
                 {"hit", first_hit_json(scene, traced.tree)},
                 {"color", traced.tree.nodes.empty() ? Json() : to_json(traced.tree.nodes.front().total)},
-                {"tree", nodes}};
+                {"tree", nodes},
+                {"dropped", dropped}};
 }
 
 // The value a divergence is about, for one node.

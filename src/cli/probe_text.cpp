@@ -1,5 +1,6 @@
 #include "cli/probe_text.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdio>
 #include <map>
@@ -242,12 +243,45 @@ void print_verdict(const scene::Scene& scene, const Findings& findings) {
     }
 }
 
+// The secondary rays the depth control left out of one tree (scene/depth_control.h), the largest first.
+void print_dropped(const TracedTree& traced) {
+    const std::vector<DroppedRay>& dropped = traced.tree.dropped;
+    if (dropped.empty()) {
+        return;
+    }
+    double bound = 0;
+    bool for_budget = false;
+    for (const DroppedRay& ray : dropped) {
+        bound += ray.bound;
+        for_budget = for_budget || ray.for_budget;
+    }
+    std::printf("left out by %s: %zu secondary ray%s, which could have added at most %.3g per channel%s\n",
+                traced.label.c_str(), dropped.size(), dropped.size() == 1 ? "" : "s", bound,
+                for_budget ? "; the ray budget ran out" : "");
+    std::vector<DroppedRay> largest = dropped;
+    std::stable_sort(largest.begin(), largest.end(),
+                     [](const DroppedRay& a, const DroppedRay& b) { return a.bound > b.bound; });
+    constexpr std::size_t shown = 8;
+    for (std::size_t i = 0; i < std::min(shown, largest.size()); ++i) {
+        const DroppedRay& ray = largest[i];
+        std::printf("  depth %d %s ray of #%d: weight %.3g, at most %.3g (%s)\n", ray.depth, ray_kind_name(ray.kind),
+                    ray.parent, ray.weight, ray.bound, ray.for_budget ? "budget" : "cutoff");
+    }
+    if (largest.size() > shown) {
+        std::printf("  ... and %zu more\n", largest.size() - shown);
+    }
+}
+
 }  // namespace
 
 void print_text(const scene::Scene& scene, const std::string& scene_path, const Target& target,
                 const Findings& findings) {
     print_heading(scene_path, target, findings);
     print_trees(scene, findings);
+    print_dropped(findings.reference);
+    if (findings.sse) {
+        print_dropped(*findings.sse);
+    }
     if (findings.sse) {
         print_verdict(scene, findings);
     }

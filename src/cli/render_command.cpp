@@ -4,6 +4,7 @@
 #include "cli/tracers.h"
 #include "image/image_file.h"
 #include "io/atomic_file.h"
+#include "scene/depth_control.h"
 #include "scene/loader.h"
 
 #include <unistd.h>
@@ -89,6 +90,26 @@ std::function<void(double)> terminal_progress(std::chrono::steady_clock::time_po
     };
 }
 
+// What the depth control left out (scene/depth_control.h) and, if the ray budget ran out anywhere, where to
+// look first.
+void print_depth_control(const scene::Scene& scene, const std::string& scene_path, const RenderResult& result) {
+    const TraceTally& tally = result.tally;
+    std::string rule = scene.min_weight ? "min_weight " + std::to_string(*scene.min_weight)
+                                        : "proven cutoff, each pixel within 0.49/255";
+    std::printf("rays left out: %llu (%s)\n", static_cast<unsigned long long>(tally.dropped_rays), rule.c_str());
+    if (tally.pixels_over_budget == 0) {
+        return;
+    }
+    int width = result.image.width();
+    long long first = tally.first_pixel_over_budget;
+    std::printf(
+        "ray budget:  %llu pixel%s ran out of their %d rays (their error is not bounded by the cutoff);\n"
+        "             the first: twinray probe %s --pixel %lld,%lld --width %d --height %d\n",
+        static_cast<unsigned long long>(tally.pixels_over_budget), tally.pixels_over_budget == 1 ? "" : "s",
+        scene::DepthControl::ray_budget, scene_path.c_str(), first % width, first / width, width,
+        result.image.height());
+}
+
 int run_render(const RenderArguments& arguments) {
     InterruptCatcher catch_ctrl_c;
     fs::path output = arguments.output_path.empty() ? fs::path(fs::path(arguments.scene_path).stem().string() + ".png")
@@ -165,9 +186,10 @@ int run_render(const RenderArguments& arguments) {
         std::printf("precision:   %s\n", sse::precision_name(arguments.precision).c_str());
     }
     std::printf("resolution:  %d x %d\n", result.image.width(), result.image.height());
-    std::printf("rays traced: %llu\n", static_cast<unsigned long long>(result.rays));
+    std::printf("rays traced: %llu\n", static_cast<unsigned long long>(result.tally.rays));
+    print_depth_control(scene, arguments.scene_path, result);
     std::printf("wall time:   %.3f s\n", seconds);
-    std::printf("speed:       %.2f Mrays/s\n", static_cast<double>(result.rays) / seconds / 1e6);
+    std::printf("speed:       %.2f Mrays/s\n", static_cast<double>(result.tally.rays) / seconds / 1e6);
     std::printf("wrote:       %s\n", output.string().c_str());
     return exit_success;
 }

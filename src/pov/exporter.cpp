@@ -1,5 +1,7 @@
 #include "pov/exporter.h"
 
+#include "scene/depth_control.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <stdexcept>
@@ -161,12 +163,14 @@ private:
         }
         line(0, "#version 3.7;");
         line(0, "");
-        // adc_bailout 0: the default (1/255) drops faint secondary rays, which our model keeps.
+        // POV-Ray stops a ray whose weight is below adc_bailout, as our min_weight does; for the proven cutoff,
+        // the weight below which no single ray can move a pixel (DepthControl::bailout_weight). Without it,
+        // POV-Ray's default 1/255 would drop rays our model keeps.
         line(0, "global_settings {");
         line(1, "assumed_gamma 1.0");
         line(1, "ambient_light rgb " + (object_ids_ ? triple(1, 1, 1) : colour(scene_.ambient_light)));
         line(1, "max_trace_level " + std::to_string(object_ids_ ? 1 : scene_.max_depth));
-        line(1, "adc_bailout 0");
+        line(1, "adc_bailout " + number(object_ids_ ? 0.0 : scene::DepthControl(scene_).bailout_weight()));
         line(0, "}");
         line(0, "");
         line(0, "background { color rgb " + (object_ids_ ? triple(0, 0, 0) : colour(scene_.background)) + " }");

@@ -63,9 +63,20 @@ struct RayNode {
     Vec3d total{};                        // what the ray sees: local + transmission·refracted + reflection·reflected
 };
 
+// A secondary ray the depth control left out (scene/depth_control.h): its parent traced it not.
+struct DroppedRay {
+    int parent = -1;  // index in RayTree::nodes
+    RayKind kind = RayKind::reflected;
+    int depth = 2;
+    double weight = 0;        // product of the coefficients on its path
+    double bound = 0;         // weight · the radiance bound at its depth: the most it could have added
+    bool for_budget = false;  // left out because the pixel's ray budget ran out, not by the cutoff
+};
+
 // Depth-first (pre-order): a node comes before its children, children in the order they are traced.
 struct RayTree {
     std::vector<RayNode> nodes;
+    std::vector<DroppedRay> dropped;  // in the order the tracer decided
 
     // Appends the node of a ray about to be traced and returns its index; the tracer fills in the rest.
     int add(RayKind kind, int depth, int parent, Vec3d origin, Vec3d direction) {
@@ -109,6 +120,10 @@ struct RayTree {
         if (!n.hit) {
             n.local = color;
         }
+    }
+
+    void add_dropped(int parent, RayKind kind, int depth, double weight, double bound, bool for_budget) {
+        dropped.push_back({parent, kind, depth, weight, bound, for_budget});
     }
 
     std::vector<int> children(int node) const {

@@ -19,32 +19,29 @@ int resolve_thread_count(int requested) {
 
 // The calling thread is one of the workers (one thread fewer to start, which matters for renders of a
 // few milliseconds), and it alone reports progress, between its items.
-std::uint64_t parallel_for(int count, int threads, const std::function<std::uint64_t(int item)>& work,
-                           const std::function<void(double fraction_done)>& progress, const std::atomic<bool>* cancel) {
+int parallel_for(int count, int threads, const std::function<void(int item, int worker)>& work,
+                 const std::function<void(double fraction_done)>& progress, const std::atomic<bool>* cancel) {
     std::atomic<int> next_item{0};
     std::atomic<int> items_done{0};
-    std::atomic<std::uint64_t> total{0};
     std::mutex failure_mutex;
     std::exception_ptr failure;
     auto last_report = std::chrono::steady_clock::now();
 
-    auto worker = [&](bool reports_progress) {
+    auto worker = [&](int index) {
         try {
-            std::uint64_t sum = 0;
             for (int item = next_item++; item < count; item = next_item++) {
                 // Relaxed is enough: the flag carries no data, and stopping one item later is harmless.
                 if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
                     throw RenderCancelled();
                 }
-                sum += work(item);
+                work(item, index);
                 ++items_done;
-                if (reports_progress && progress &&
+                if (index == 0 && progress &&
                     std::chrono::steady_clock::now() - last_report > std::chrono::milliseconds(100)) {
                     last_report = std::chrono::steady_clock::now();
                     progress(static_cast<double>(items_done) / count);
                 }
             }
-            total += sum;
         } catch (...) {
             std::lock_guard lock(failure_mutex);
             failure = std::current_exception();
@@ -56,14 +53,14 @@ std::uint64_t parallel_for(int count, int threads, const std::function<std::uint
     {
         std::vector<std::jthread> helpers;
         for (int i = 1; i < worker_count; ++i) {
-            helpers.emplace_back(worker, false);
+            helpers.emplace_back(worker, i);
         }
-        worker(true);
+        worker(0);
     }
     if (failure) {
         std::rethrow_exception(failure);
     }
-    return total;
+    return worker_count;
 }
 
 }  // namespace twinray

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <stdexcept>
+#include <vector>
 
 namespace twinray {
 
@@ -28,19 +29,67 @@ public:
     RenderCancelled() : std::runtime_error("render cancelled") {}
 };
 
+// What a render, or one pixel's trace(), counted.
+struct TraceTally {
+    std::uint64_t rays = 0;                     // primary, shadow, reflected and refracted rays traced
+    std::uint64_t dropped_rays = 0;             // secondary rays the depth control left out (scene/depth_control.h)
+    std::uint64_t pixels_over_budget = 0;       // pixels whose ray budget ran out before their tree was done
+    std::int64_t first_pixel_over_budget = -1;  // y·width + x of the first of them in row-major order; -1: none
+
+    // One pixel's tree, as a tracer's trace() counted it.
+    void add_pixel(std::uint64_t traced, std::uint64_t dropped, bool over_budget) {
+        rays += traced;
+        dropped_rays += dropped;
+        pixels_over_budget += over_budget ? 1 : 0;
+    }
+
+    // The tally of the pixel at y·width + x.
+    void add(TraceTally pixel, std::int64_t pixel_index) {
+        if (pixel.pixels_over_budget > 0 && pixel.first_pixel_over_budget < 0) {
+            pixel.first_pixel_over_budget = pixel_index;
+        }
+        *this += pixel;
+    }
+
+    TraceTally& operator+=(const TraceTally& other) {
+        rays += other.rays;
+        dropped_rays += other.dropped_rays;
+        pixels_over_budget += other.pixels_over_budget;
+        if (other.first_pixel_over_budget >= 0 &&
+            (first_pixel_over_budget < 0 || other.first_pixel_over_budget < first_pixel_over_budget)) {
+            first_pixel_over_budget = other.first_pixel_over_budget;
+        }
+        return *this;
+    }
+};
+
 struct RenderResult {
     Image image;
-    std::uint64_t rays = 0;  // primary, shadow, reflected and refracted rays traced
+    TraceTally tally;
 };
 
 int resolve_thread_count(int requested);
 
-// Runs work(item) for every item in [0, count) on `threads` threads, items handed out in order one at
-// a time. Each item must write only its own output, which is what makes a render bit-identical for
-// any thread count. Returns the sum of what the items return (their ray counts). If `cancel` becomes
-// true, no new item is started, the items under way finish, and RenderCancelled is thrown.
-std::uint64_t parallel_for(int count, int threads, const std::function<std::uint64_t(int item)>& work,
-                           const std::function<void(double fraction_done)>& progress,
-                           const std::atomic<bool>* cancel = nullptr);
+// Runs work(item, worker) for every item in [0, count) on `threads` threads, items handed out in order one
+// at a time; `worker` (0 ≤ worker < the returned count) tells which thread runs it. Each item must write
+// only its own output, which is what makes a render bit-identical for any thread count. If `cancel`
+// becomes true, no new item is started, the items under way finish, and RenderCancelled is thrown.
+int parallel_for(int count, int threads, const std::function<void(int item, int worker)>& work,
+                 const std::function<void(double fraction_done)>& progress, const std::atomic<bool>* cancel = nullptr);
+
+// parallel_for summing what the items return (tallies whose += does not depend on order).
+template <typename Sum>
+Sum parallel_sum(int count, int threads, const std::function<Sum(int item)>& work,
+                 const std::function<void(double fraction_done)>& progress, const std::atomic<bool>* cancel = nullptr) {
+    std::vector<Sum> by_worker(static_cast<std::size_t>(resolve_thread_count(threads)));
+    int workers = parallel_for(
+        count, threads, [&](int item, int worker) { by_worker[static_cast<std::size_t>(worker)] += work(item); },
+        progress, cancel);
+    Sum total{};
+    for (int worker = 0; worker < workers; ++worker) {
+        total += by_worker[static_cast<std::size_t>(worker)];
+    }
+    return total;
+}
 
 }  // namespace twinray

@@ -90,6 +90,9 @@ public:
         scene_.background = read_or(root, "background", scene_.background, require_color);
         scene_.ambient_light = read_or(root, "ambient_light", scene_.ambient_light, require_color);
         scene_.max_depth = read_or(root, "max_depth", scene_.max_depth, integer_in(1, max_trace_depth));
+        if (const std::optional<Node> min_weight = find_key(root, "min_weight")) {
+            scene_.min_weight = require_number_in(*min_weight, non_negative);
+        }
         if (const std::optional<Node> materials = find_key(root, "materials")) {
             read_materials(*materials, scene_);
         }

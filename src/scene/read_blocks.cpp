@@ -57,9 +57,10 @@ Light read_light(const Node& node) {
 
 }  // namespace
 
-const Schema scene_schema{"a scene",
-                          {"camera", "objects"},
-                          {"format", "image", "background", "ambient_light", "max_depth", "materials", "lights"}};
+const Schema scene_schema{
+    "a scene",
+    {"camera", "objects"},
+    {"format", "image", "background", "ambient_light", "max_depth", "min_weight", "materials", "lights"}};
 
 void require_format(const Node& node) {
     if (require_string(node) != format_name) {

@@ -5,6 +5,7 @@
 #include "math/type_list.h"
 #include "math/vec3.h"
 
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -98,6 +99,9 @@ struct Scene {
     Vec3 background{0, 0, 0};
     Vec3 ambient_light{1, 1, 1};
     int max_depth = 5;
+    // A secondary ray whose weight is below this is not traced (POV-Ray's adc_bailout); 0 traces every
+    // ray. Without it, the proven cutoff of scene/depth_control.h decides (docs/reference-tracer.md).
+    std::optional<double> min_weight;
     // materials[0] is the built-in default; named materials follow, in file order.
     std::vector<Material> materials{Material{}};
     std::vector<std::string> material_names{"(default)"};

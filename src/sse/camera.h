@@ -108,15 +108,15 @@ constexpr int tile = 16;
 
 // Hands out the image's 16 × 16 tiles to the worker threads and calls
 // work(x0, y0, x1, y1, visible) for the pixels [x0, x1) × [y0, y1) with the primitives the tile can see
-// (TileCulling); sums what it returns. The denormal mode is set per tile, on whichever thread runs it,
+// (TileCulling); sums what it returns (a Sum). The denormal mode is set per tile, on whichever thread runs it,
 // and restored after: the workers are the shared render loop's, and the calling thread is one of them.
-template <typename TileWork>
-std::uint64_t for_each_tile(const CompiledScene& scene, scene::ImageSize size, const RenderOptions& options,
-                            bool flush_denormals, TileWork&& work) {
+template <typename Sum, typename TileWork>
+Sum for_each_tile(const CompiledScene& scene, scene::ImageSize size, const RenderOptions& options, bool flush_denormals,
+                  TileWork&& work) {
     TileCulling culling(scene, size.width, size.height);
     int tiles_x = (size.width + tile - 1) / tile;
     int tiles_y = (size.height + tile - 1) / tile;
-    return parallel_for(
+    return parallel_sum<Sum>(
         tiles_x * tiles_y, options.threads,
         [&](int index) {
             ScopedFlushDenormals denormals(flush_denormals);

@@ -46,7 +46,7 @@ public:
         : origin_(origin_of(scene)), scene_(scene::moved(scene, 1, -origin_)) {}
 
     CompiledScene run() {
-        CompiledScene out;
+        CompiledScene out(scene_);
         out.origin = origin_;
         for (const scene::Material& m : scene_.materials) {
             out.materials.push_back({Color(m.color), static_cast<float>(m.ambient), static_cast<float>(m.diffuse),

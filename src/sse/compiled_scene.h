@@ -5,6 +5,7 @@
 #pragma once
 
 #include "math/camera.h"
+#include "scene/depth_control.h"
 #include "sse/box.h"
 #include "sse/csg.h"
 #include "sse/cylinder.h"
@@ -136,6 +137,8 @@ struct Light {
 // so the float numbers are small; the per-ray API and the ray tree translate to and from world coordinates
 // in double.
 struct CompiledScene {
+    explicit CompiledScene(const scene::Scene& scene) : depth_control(scene) {}
+
     scene::Vec3 origin;
     PrimitiveLists primitives;  // top-level primitives; ids are leaf indices
     std::vector<CsgObject> csg_objects;
@@ -145,6 +148,7 @@ struct CompiledScene {
     std::vector<Light> lights;
     Color background, ambient_light;
     int max_depth = 1;
+    scene::DepthControl depth_control;  // which secondary rays are traced: the reference's rule, in double
     // Model only what the scene requires: without transparent materials a shadow ray stops at its first
     // blocker and no refracted ray is ever traced; without boxes no ray computes its reciprocal.
     bool any_transparency = false;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "render/ray_tree.h"
+#include "scene/depth_control.h"
 #include "sse/nearest_hit.h"
 
 namespace twinray::sse {
@@ -65,6 +66,12 @@ template <typename P>
     if (node >= 0) {
         tree.set_total_color(node, lane0(color));
     }
+}
+
+[[gnu::cold]] inline void record_dropped(RayTree& tree, int parent, RayKind kind, int depth,
+                                         const scene::RayShare& share, const scene::DepthControl& control,
+                                         bool for_budget) {
+    tree.add_dropped(parent, kind, depth, share.weight, share.weight * control.radiance_bound(depth), for_budget);
 }
 
 }  // namespace twinray::sse

@@ -7,6 +7,7 @@
 #include "sse/ray_tree_recording.h"
 #include "sse/shadow.h"
 
+#include <array>
 #include <cmath>
 
 namespace twinray::sse {
@@ -15,7 +16,25 @@ namespace twinray::sse {
 struct Material4 {
     Vec3x4 color;
     vfloat4 ambient, diffuse, phong, phong_size, reflection, transmission, ior;
+    std::array<int, 4> index;  // in CompiledScene::materials; 0 where a lane has no hit
 };
+
+using LaneShares = std::array<scene::RayShare, 4>;
+
+// The trees of a packet's four pixels as they are traced: rays counted, what the depth control left out of
+// each lane's tree, the recording of lane 0's.
+struct PacketWalk {
+    std::uint64_t rays = 0;
+    std::array<scene::PixelLedger, 4> ledgers;
+    RayTree* tree = nullptr;
+};
+
+// Four primary rays' shares: each lane is a pixel with the whole budget.
+inline LaneShares primary_shares() {
+    LaneShares shares;
+    shares.fill(scene::DepthControl::primary());
+    return shares;
+}
 
 inline vfloat4 from_lanes(const float lanes[4]) {
     return vfloat4(_mm_setr_ps(lanes[0], lanes[1], lanes[2], lanes[3]));
@@ -38,16 +57,21 @@ public:
     }
     Hit4 intersect(RayPacket& rays) const { return intersect(rays, scene_.primitives); }
 
-    // `tree`, if given, records lane 0's ray as a `kind` child of node `parent`, and all it spawns.
-    Vec3x4 trace(RayPacket& rays, int depth, std::uint64_t& ray_count, RayTree* tree = nullptr,
+    // `walk.tree`, if given, records lane 0's ray as a `kind` child of node `parent`, and all it spawns.
+    Vec3x4 trace(RayPacket& rays, int depth, const LaneShares& shares, PacketWalk& walk,
                  RayKind kind = RayKind::primary, int parent = -1) const {
-        return trace(rays, scene_.primitives, depth, ray_count, tree, kind, parent);
+        return trace(rays, scene_.primitives, depth, shares, walk, kind, parent);
     }
 
-    Vec3x4 trace(RayPacket& rays, const PrimitiveLists& candidates, int depth, std::uint64_t& ray_count,
-                 RayTree* tree = nullptr, RayKind kind = RayKind::primary, int parent = -1) const {
-        ray_count += lane_count(rays.active);
+    Vec3x4 trace(RayPacket& rays, const PrimitiveLists& candidates, int depth, const LaneShares& shares,
+                 PacketWalk& walk, RayKind kind = RayKind::primary, int parent = -1) const {
+        walk.rays += lane_count(rays.active);
+        int active = movemask(rays.active);
+        for (int lane = 0; lane < 4; ++lane) {
+            walk.ledgers[static_cast<std::size_t>(lane)].traced += static_cast<std::uint32_t>((active >> lane) & 1);
+        }
         Hit4 hit = intersect(rays, candidates);
+        RayTree* tree = walk.tree;
         int node = tree != nullptr ? record_ray(*tree, kind, depth, parent, rays, hit, scene_.origin) : -1;
         Vec3x4 background = broadcast(scene_.background);
         if (none(hit.hit)) {
@@ -56,7 +80,7 @@ public:
             }
             return background;
         }
-        Vec3x4 color = select(hit.hit, shade(rays, hit, depth, ray_count, tree, node), background);
+        Vec3x4 color = select(hit.hit, shade(rays, hit, depth, shares, walk, node), background);
         if (tree != nullptr) {
             record_total_color(*tree, node, color);
         }
@@ -69,11 +93,13 @@ private:
         hit.leaf.store(leaf);
         int lanes = movemask(hit.hit);
         float values[10][4] = {};
+        std::array<int, 4> index{};
         for (int lane = 0; lane < 4; ++lane) {
             if (((lanes >> lane) & 1) == 0) {
                 continue;
             }
             const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
+            index[static_cast<std::size_t>(lane)] = info.material;
             const Material& m = scene_.materials[static_cast<std::size_t>(info.material)];
             const float fields[10] = {m.color.x, m.color.y,    m.color.z,    m.ambient,      m.diffuse,
                                       m.phong,   m.phong_size, m.reflection, m.transmission, m.ior};
@@ -88,7 +114,8 @@ private:
                 from_lanes(values[6]),
                 from_lanes(values[7]),
                 from_lanes(values[8]),
-                from_lanes(values[9])};
+                from_lanes(values[9]),
+                index};
     }
 
     // max(0, R·L)^phong_size per lane; the power is scalar (SSE has none), computed only where needed.
@@ -107,9 +134,10 @@ private:
 
     // I = ambient·C·ambient_light + Σ_lights shadow·(diffuse·C·Lc·(N·L) + phong·Lc·max(0, R·L)^phong_size)
     //   + reflection·I(reflected) + transmission·I(refracted)          (docs/scene-format.md, "Shading")
-    // `node`: lane 0's ray in `tree`, if recording.
-    Vec3x4 shade(const RayPacket& rays, const Hit4& hit, int depth, std::uint64_t& ray_count, RayTree* tree,
+    // `node`: lane 0's ray in walk.tree, if recording.
+    Vec3x4 shade(const RayPacket& rays, const Hit4& hit, int depth, const LaneShares& shares, PacketWalk& walk,
                  int node) const {
+        RayTree* tree = walk.tree;
         Material4 m = gather_material(hit);
         vfloat4 zero(0.0f);
         const Vec3x4& direction = rays.direction;
@@ -126,7 +154,7 @@ private:
                 }
                 continue;
             }
-            ray_count += lane_count(lit);
+            walk.rays += lane_count(lit);
             vfloat4 shadow = shadow_(spawn_origin(hit, to_light), light.position, lit);
             if (tree != nullptr) {
                 record_light<P>(*tree, node, lambert, lit, spawn_origin(hit, to_light), light.position, shadow,
@@ -150,36 +178,79 @@ private:
         if (depth >= scene_.max_depth) {
             return color;
         }
+        // Each lane's children are traced only if the depth control admits them (scene/depth_control.h).
+        const scene::DepthControl& control = scene_.depth_control;
+        std::array<std::uint32_t, 4> traced_before_children;
+        for (std::size_t lane = 0; lane < 4; ++lane) {
+            traced_before_children[lane] = walk.ledgers[lane].traced;
+        }
         vfloat4 reflection = select(hit.hit, m.reflection, zero);
         vbool4 transparent = hit.hit & (m.transmission > zero);
+        vbool4 total_internal = transparent & !transparent;
         if (scene_.any_transparency && any(transparent)) {
             vfloat4 eta = select(hit.entering, reciprocal<P>(m.ior), m.ior);
             vfloat4 cos_incident = -dot<P>(direction, hit.normal);
             vfloat4 sin2_transmitted = eta * eta * (vfloat4(1.0f) - cos_incident * cos_incident);
-            vbool4 total_internal = transparent & (sin2_transmitted > vfloat4(1.0f));
-            vbool4 refracting = transparent & !total_internal;
+            total_internal = transparent & (sin2_transmitted > vfloat4(1.0f));
             reflection = reflection + select(total_internal, m.transmission, zero);
+            LaneShares children;
+            vbool4 refracting = admit(
+                transparent & !total_internal,
+                [&](std::size_t lane) { return control.refracted(shares[lane], m.index[lane]); }, depth + 1, walk,
+                RayKind::refracted, node, children);
             if (any(refracting)) {
                 vfloat4 cos_transmitted = sqrt(max(vfloat4(1.0f) - sin2_transmitted, zero));
                 Vec3x4 refracted = normalize<P>(eta * direction + (eta * cos_incident - cos_transmitted) * hit.normal);
                 color = color + select(refracting, m.transmission, zero) * trace_secondary(hit, refracted, refracting,
-                                                                                           depth, ray_count, tree,
+                                                                                           children, depth, walk,
                                                                                            RayKind::refracted, node);
             }
         }
-        vbool4 reflecting = reflection > zero;
+        int total_internal_lanes = movemask(total_internal);
+        LaneShares children;
+        vbool4 reflecting = admit(
+            reflection > zero,
+            [&](std::size_t lane) {
+                return control.reflected(shares[lane], m.index[lane], ((total_internal_lanes >> lane) & 1) != 0,
+                                         walk.ledgers[lane].traced - traced_before_children[lane]);
+            },
+            depth + 1, walk, RayKind::reflected, node, children);
         if (any(reflecting)) {
-            color = color + reflection * trace_secondary(hit, mirror, reflecting, depth, ray_count, tree,
-                                                         RayKind::reflected, node);
+            color =
+                color + select(reflecting, reflection, zero) *
+                            trace_secondary(hit, mirror, reflecting, children, depth, walk, RayKind::reflected, node);
         }
         return color;
     }
 
-    Vec3x4 trace_secondary(const Hit4& hit, const Vec3x4& direction, vbool4 lanes, int depth, std::uint64_t& ray_count,
-                           RayTree* tree, RayKind kind, int parent) const {
+    // The lanes of `lanes` whose child ray the depth control traces, with their shares in `children`
+    // (share_of(lane)); each other lane's ledger is charged with its ray, recorded for lane 0.
+    template <typename ShareOf>
+    vbool4 admit(vbool4 lanes, ShareOf&& share_of, int depth, PacketWalk& walk, RayKind kind, int parent,
+                 LaneShares& children) const {
+        int candidates = movemask(lanes);
+        alignas(16) std::int32_t admitted[4] = {0, 0, 0, 0};
+        for (std::size_t lane = 0; lane < 4; ++lane) {
+            if (((candidates >> lane) & 1) == 0) {
+                continue;
+            }
+            children[lane] = share_of(lane);
+            scene::DropReason reason = scene_.depth_control.decide(children[lane], depth, walk.ledgers[lane]);
+            if (reason == scene::DropReason::traced) {
+                admitted[lane] = -1;
+            } else if (lane == 0 && walk.tree != nullptr && parent >= 0) {
+                record_dropped(*walk.tree, parent, kind, depth, children[lane], scene_.depth_control,
+                               reason == scene::DropReason::budget);
+            }
+        }
+        return vbool4{_mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(admitted)))};
+    }
+
+    Vec3x4 trace_secondary(const Hit4& hit, const Vec3x4& direction, vbool4 lanes, const LaneShares& shares, int depth,
+                           PacketWalk& walk, RayKind kind, int parent) const {
         Vec3x4 origin = spawn_origin(hit, direction);
         RayPacket rays(origin, direction, lanes);
-        Vec3x4 color = trace(rays, depth + 1, ray_count, tree, kind, parent);
+        Vec3x4 color = trace(rays, depth + 1, shares, walk, kind, parent);
         return select(lanes, color, Vec3x4{});
     }
 

@@ -128,19 +128,20 @@ std::optional<Hit> Tracer::intersect(const Ray& world_ray) const {
     return hit;
 }
 
-Color Tracer::trace(const Ray& world_ray, int depth, std::uint64_t* rays, RayTree* tree) const {
+Color Tracer::trace(const Ray& world_ray, int depth, TraceTally* tally, RayTree* tree) const {
     RelativeRay ray = relative_to(*scene_, world_ray);
     if (!math::is_traceable(ray.origin, ray.direction)) {
         return scene_->background;
     }
     ScopedFlushDenormals denormals(precision_.flush_denormals);
-    std::uint64_t count = 0;
+    PacketWalk walk;
+    walk.tree = tree;
     Vec3x4 color = with_precision_policy(precision_, [&](auto policy) {
         RayPacket packet = single_ray_packet(ray);
-        return PacketTracer<decltype(policy)>(*scene_).trace(packet, depth, count, tree);
+        return PacketTracer<decltype(policy)>(*scene_).trace(packet, depth, primary_shares(), walk);
     });
-    if (rays != nullptr) {
-        *rays += count;
+    if (tally != nullptr) {
+        tally->add_pixel(walk.rays, walk.ledgers[0].dropped, walk.ledgers[0].over_budget);
     }
     return lane(color, 0);
 }
@@ -166,18 +167,20 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
     Tracer tracer(scene, precision);
     Image image(size.width, size.height);
-    std::uint64_t ray_count = with_precision_policy(precision, [&](auto policy) {
+    TraceTally tally = with_precision_policy(precision, [&](auto policy) {
         using P = decltype(policy);
         PacketTracer<P> packets(tracer.compiled());
         CameraPacket camera(tracer.compiled(), size.width, size.height);
-        return for_each_tile(
+        return for_each_tile<TraceTally>(
             tracer.compiled(), size, options, precision.flush_denormals,
             [&](int x0, int y0, int x1, int y1, const PrimitiveLists& visible) {
-                std::uint64_t tile_rays = 0;
+                TraceTally tile_tally;
                 Rgb pixels[tile][tile];
                 for_each_packet(x0, y0, x1, y1, [&](int x, int y, vbool4 active) {
                     RayPacket packet = camera.template rays<P>(x, y, active);
-                    Vec3x4 color = packets.trace(packet, visible, 1, tile_rays);
+                    PacketWalk walk;
+                    Vec3x4 color = packets.trace(packet, visible, 1, primary_shares(), walk);
+                    tile_tally.rays += walk.rays;
                     alignas(16) float r[4], g[4], b[4];
                     color.x.store(r);
                     color.y.store(g);
@@ -185,15 +188,19 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
                     // Buffer rows and columns past the image's edge are written but never copied.
                     for (int lane = 0; lane < 4; ++lane) {
                         pixels[y - y0 + (lane >> 1)][x - x0 + (lane & 1)] = {r[lane], g[lane], b[lane]};
+                        const scene::PixelLedger& ledger = walk.ledgers[static_cast<std::size_t>(lane)];
+                        TraceTally pixel;
+                        pixel.add_pixel(0, ledger.dropped, ledger.over_budget);
+                        tile_tally.add(pixel, static_cast<std::int64_t>(y + (lane >> 1)) * size.width + x + (lane & 1));
                     }
                 });
                 for (int y = y0; y < y1; ++y) {
                     std::copy(pixels[y - y0], pixels[y - y0] + (x1 - x0), &image.at(x0, y));
                 }
-                return tile_rays;
+                return tile_tally;
             });
     });
-    return {std::move(image), ray_count};
+    return {std::move(image), tally};
 }
 
 FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
@@ -203,15 +210,15 @@ FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& opti
         using P = decltype(policy);
         PacketTracer<P> packets(tracer.compiled());
         CameraPacket camera(tracer.compiled(), size.width, size.height);
-        return for_each_tile(tracer.compiled(), size, options, precision.flush_denormals,
-                             [&](int x0, int y0, int x1, int y1, const PrimitiveLists& visible) {
-                                 std::uint64_t tile_hits = 0;
-                                 for_each_packet(x0, y0, x1, y1, [&](int x, int y, vbool4 active) {
-                                     RayPacket packet = camera.template rays<P>(x, y, active);
-                                     tile_hits += lane_count(packets.intersect(packet, visible).hit);
-                                 });
-                                 return tile_hits;
-                             });
+        return for_each_tile<std::uint64_t>(tracer.compiled(), size, options, precision.flush_denormals,
+                                            [&](int x0, int y0, int x1, int y1, const PrimitiveLists& visible) {
+                                                std::uint64_t tile_hits = 0;
+                                                for_each_packet(x0, y0, x1, y1, [&](int x, int y, vbool4 active) {
+                                                    RayPacket packet = camera.template rays<P>(x, y, active);
+                                                    tile_hits += lane_count(packets.intersect(packet, visible).hit);
+                                                });
+                                                return tile_hits;
+                                            });
     });
     return {static_cast<std::uint64_t>(size.width) * static_cast<std::uint64_t>(size.height), hits};
 }

@@ -76,9 +76,11 @@ public:
     // to origin_of (in float) and of its direction is finite and the direction is of unit length within
     // 1e-3; any other ray is a miss (intersect) or the background (trace).
     std::optional<Hit> intersect(const Ray& ray) const;
-    // `tree`, if given, receives every ray traced, what it hit, each light's visibility and its colours
-    // (twinray probe); the colour is the same with or without it.
-    Color trace(const Ray& ray, int depth, std::uint64_t* rays = nullptr, RayTree* tree = nullptr) const;
+    // The ray is one pixel's tree, with the whole ray budget (scene/depth_control.h). `tally`, if given,
+    // adds the rays traced, the secondary rays the depth control left out and whether the budget ran out.
+    // `tree`, if given, receives every ray traced, what it hit, each light's visibility, its colours and the
+    // rays left out (twinray probe); the colour is the same with or without it.
+    Color trace(const Ray& ray, int depth, TraceTally* tally = nullptr, RayTree* tree = nullptr) const;
     Ray primary_ray(int x, int y, int width, int height) const;
 
     const CompiledScene& compiled() const { return *scene_; }

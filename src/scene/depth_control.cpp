@@ -1,0 +1,118 @@
+#include "scene/depth_control.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace twinray::scene {
+namespace {
+
+// The derivation is in docs/reference-tracer.md ("Adaptive depth control"). Any ray returns the background
+// or one hit's local shading plus its children weighted by reflection and transmission, so with L the
+// largest local value and s the largest coefficient sum, a ray with k levels below it returns at most
+// L·(1 + s + … + s^k). L takes every light at full strength (N·L ≤ 1, the Phong power ≤ 1) times the
+// largest shadow transmittance.
+double largest_local_radiance(const Scene& scene, const std::vector<bool>& used, double shadow) {
+    double largest = std::max({scene.background.x, scene.background.y, scene.background.z});
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+        if (!used[i]) {
+            continue;
+        }
+        const Material& m = scene.materials[i];
+        for (int c = 0; c < 3; ++c) {
+            double lights = 0;
+            for (const Light& light : scene.lights) {
+                lights += (m.diffuse * m.color[c] + m.phong) * light.color[c];
+            }
+            // shadow may be +∞; a material no light reaches must not turn that into ∞·0 = NaN.
+            double lit = lights > 0 ? shadow * lights : 0;
+            largest = std::max(largest, m.ambient * m.color[c] * scene.ambient_light[c] + lit);
+        }
+    }
+    return largest;
+}
+
+}  // namespace
+
+DepthControl::DepthControl(const Scene& scene)
+    : radiance_bound_(static_cast<std::size_t>(scene.max_depth) + 1, 0.0),
+      min_weight_(scene.min_weight),
+      max_depth_(scene.max_depth) {
+    for (const Material& m : scene.materials) {
+        coefficients_.push_back({m.reflection, m.transmission});
+    }
+    // Only the materials of some primitive can be hit.
+    std::vector<bool> used(scene.materials.size(), false);
+    for (int material : scene.leaf_materials) {
+        used[static_cast<std::size_t>(material)] = true;
+    }
+    double largest_transmission = 0;
+    double largest_sum = 0;
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+        if (used[i]) {
+            largest_transmission = std::max(largest_transmission, scene.materials[i].transmission);
+            largest_sum = std::max(largest_sum, scene.materials[i].reflection + scene.materials[i].transmission);
+        }
+    }
+    // A shadow ray multiplies the transmission of every surface it crosses: a primitive is crossed at most
+    // twice (it is convex; a plane once). Transmissions above 1 are legal, so the product may grow with
+    // every primitive; it is only bounded by 1 when none exceeds 1.
+    double shadow = largest_transmission > 1
+                        ? std::pow(largest_transmission, 2.0 * static_cast<double>(scene.leaf_materials.size()))
+                        : 1.0;
+    double local = largest_local_radiance(scene, used, shadow);
+    // The tracers compute in float or double what this bounds exactly: a relative margin of 2⁻¹⁰ covers
+    // their rounding (at most a few hundred roundings of 2⁻²⁴ each along a 64-deep path).
+    constexpr double rounding_margin = 1.0 + 1.0 / 1024;
+    double below = 0;
+    for (int depth = scene.max_depth; depth >= 1; --depth) {
+        below = local + (largest_sum > 0 ? largest_sum * below : 0.0);  // no 0·∞ = NaN
+        radiance_bound_[static_cast<std::size_t>(depth)] = below * rounding_margin;
+    }
+}
+
+RayShare DepthControl::refracted(const RayShare& parent, int material) const {
+    const SecondaryCoefficients& k = coefficients_[static_cast<std::size_t>(material)];
+    int rays_left = parent.allowance - 1;
+    int allowance = k.reflection > 0 ? static_cast<int>(std::floor(static_cast<double>(rays_left) * k.transmission /
+                                                                   (k.transmission + k.reflection)))
+                                     : rays_left;
+    return {parent.weight * k.transmission, allowance};
+}
+
+RayShare DepthControl::reflected(const RayShare& parent, int material, bool total_internal,
+                                 std::uint32_t used_by_refracted) const {
+    const SecondaryCoefficients& k = coefficients_[static_cast<std::size_t>(material)];
+    double coefficient = total_internal ? k.reflection + k.transmission : k.reflection;
+    return {parent.weight * coefficient, parent.allowance - 1 - static_cast<int>(used_by_refracted)};
+}
+
+DropReason DepthControl::decide(const RayShare& share, int depth, PixelLedger& ledger) const {
+    double bound = share.weight * radiance_bound(depth);
+    DropReason reason = DropReason::traced;
+    if (min_weight_ ? share.weight < *min_weight_ : ledger.dropped_bound + bound <= pixel_tolerance) {
+        reason = DropReason::cutoff;
+    } else if (share.allowance < 1) {
+        reason = DropReason::budget;
+        ledger.over_budget = true;
+    }
+    if (reason != DropReason::traced) {
+        ++ledger.dropped;
+        ledger.dropped_bound += bound;
+    }
+    return reason;
+}
+
+double DepthControl::bailout_weight() const {
+    if (min_weight_) {
+        return *min_weight_;
+    }
+    // The first secondary rays (depth 2) have the largest bound; a ray that cannot matter there cannot
+    // matter deeper.
+    if (max_depth_ < 2 || !std::isfinite(radiance_bound(2)) || radiance_bound(2) <= 0) {
+        return 0;
+    }
+    return pixel_tolerance / radiance_bound(2);
+}
+
+}  // namespace twinray::scene
