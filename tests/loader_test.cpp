@@ -101,6 +101,8 @@ const std::vector<Malformed> malformed_scenes = {
     {"max_depth_too_large.json", "max_depth", "must be an integer from 1 to 64, got 65"},
     {"max_depth_fractional.json", "max_depth", "must be an integer from 1 to 64, got 2.5"},
     {"max_depth_string.json", "max_depth", "expected a number, got \"5\""},
+    {"min_weight_negative.json", "min_weight", "must be >= 0, got -0.01"},
+    {"min_weight_string.json", "min_weight", "expected a number, got \"0.01\""},
     // materials.
     {"materials_not_object.json", "materials", "expected an object"},
     {"material_not_object.json", "materials.glass", "expected an object, got 1.5"},
@@ -264,6 +266,7 @@ TEST(SceneLoader, MinimalSceneGetsEveryDefault) {
     EXPECT_EQ(scene.background, (Vec3{0, 0, 0}));
     EXPECT_EQ(scene.ambient_light, (Vec3{1, 1, 1}));
     EXPECT_EQ(scene.max_depth, 5);
+    EXPECT_FALSE(scene.min_weight.has_value());
     ASSERT_EQ(scene.materials.size(), 1u);
     EXPECT_EQ(scene.material_names, std::vector<std::string>{"(default)"});
     expect_default_material(scene.materials[0]);
@@ -287,7 +290,7 @@ TEST(SceneLoader, GivenValuesReplaceTheDefaults) {
         "format": "twinray-scene/1",
         "image": { "width": 64, "height": 48 },
         "camera": { "eye": [1, 2, 3], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 30 },
-        "background": [0.1, 0.2, 0.3], "ambient_light": [0.5, 0.5, 0.5], "max_depth": 12,
+        "background": [0.1, 0.2, 0.3], "ambient_light": [0.5, 0.5, 0.5], "max_depth": 12, "min_weight": 0.004,
         "materials": { "m": { "color": [0.5, 0.25, 0], "ambient": 0.2, "diffuse": 0.7, "phong": 0.3,
                               "phong_size": 20, "reflection": 0.4, "transmission": 0.5, "ior": 1.33 } },
         "lights": [ { "position": [5, 8, -6], "color": [0.5, 1, 2] } ],
@@ -299,6 +302,7 @@ TEST(SceneLoader, GivenValuesReplaceTheDefaults) {
     EXPECT_EQ(scene.background, (Vec3{0.1, 0.2, 0.3}));
     EXPECT_EQ(scene.ambient_light, (Vec3{0.5, 0.5, 0.5}));
     EXPECT_EQ(scene.max_depth, 12);
+    EXPECT_EQ(scene.min_weight, 0.004);
     const Material& m = scene.materials.at(1);
     EXPECT_EQ(m.color, (Vec3{0.5, 0.25, 0}));
     EXPECT_EQ(m.ambient, 0.2);

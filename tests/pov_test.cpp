@@ -10,6 +10,7 @@
 #include "pov/exporter.h"
 #include "pov/povray_runner.h"
 #include "reference/tracer.h"
+#include "scene/depth_control.h"
 #include "scene/loader.h"
 #include "tests/run_twinray.h"
 #include "tests/scene_files.h"
@@ -394,6 +395,23 @@ TEST(PovExporter, CameraHasExplicitRightUpSkyAndHorizontalAngle) {
         EXPECT_TRUE(contains(pov, part)) << part << " missing from:\n" << pov;
     }
     EXPECT_FALSE(contains(pov, "shadowless")) << pov;
+}
+
+// POV-Ray judges the rays we trace: adc_bailout is the scene's min_weight, else the weight below which no single
+// secondary ray can move a pixel by the cutoff's tolerance (scene/depth_control.h).
+TEST(PovExporter, AdcBailoutIsTheMinWeightOrTheWeightBelowWhichNoRayCanMatter) {
+    const std::string mirror = R"({"mirror": {"reflection": 0.5, "ambient": 1, "diffuse": 0}})";
+    const std::string objects = R"([{"type": "sphere", "center": [0, 1, 0], "radius": 1, "material": "mirror"}])";
+    twinray::scene::Scene scene = scene_from(objects, mirror);
+    // One material: local 1 (ambient 1, no lights), s = 0.5, max_depth 5: a ray at depth 2 returns at most
+    // 1 + 0.5 + 0.25 + 0.125 = 1.875 (times the rounding margin 1 + 2⁻¹⁰).
+    double expected = twinray::scene::DepthControl::pixel_tolerance / (1.875 * (1.0 + 1.0 / 1024));
+    std::string pov = twinray::pov::export_pov(scene, 32, 24);
+    char line[64];
+    std::snprintf(line, sizeof line, "adc_bailout %.17g\n", expected);
+    EXPECT_TRUE(contains(pov, line)) << line << " missing from:\n" << pov;
+    scene.min_weight = 0.01;
+    EXPECT_TRUE(contains(twinray::pov::export_pov(scene, 32, 24), "adc_bailout 0.01\n"));
 }
 
 TEST(PovExporter, NumbersReadBackAsTheSameDouble) {
