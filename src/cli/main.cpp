@@ -3,6 +3,7 @@
 #include "cli/compare_command.h"
 #include "cli/diff_command.h"
 #include "cli/exit_codes.h"
+#include "cli/generate_command.h"
 #include "cli/golden_command.h"
 #include "cli/numerics_command.h"
 #include "cli/pov_command.h"
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
     add_golden_command(app, run);
     add_probe_command(app, run);
     add_numerics_command(app, run);
+    add_generate_command(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

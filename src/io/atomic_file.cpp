@@ -45,18 +45,22 @@ void write_atomically(const fs::path& path, const std::function<void(const fs::p
     }
 }
 
-void write_text_atomically(const fs::path& path, std::string_view text) {
+void write_stream_atomically(const fs::path& path, const std::function<void(std::FILE*)>& write) {
     write_atomically(path, [&](const fs::path& temporary) {
         std::unique_ptr<std::FILE, CloseFile> stream(std::fopen(temporary.c_str(), "wb"));
         if (!stream) {
             throw FileWriteError("cannot write " + path.string() + ": " + std::strerror(errno));
         }
-        bool written = std::fwrite(text.data(), 1, text.size(), stream.get()) == text.size();
+        write(stream.get());
         bool flushed = std::fflush(stream.get()) == 0;
-        if (!written || !flushed) {
+        if (!flushed || std::ferror(stream.get()) != 0) {
             throw FileWriteError("cannot write " + path.string() + ": " + std::strerror(errno));
         }
     });
+}
+
+void write_text_atomically(const fs::path& path, std::string_view text) {
+    write_stream_atomically(path, [&](std::FILE* stream) { std::fwrite(text.data(), 1, text.size(), stream); });
 }
 
 std::string output_folder_problem(const fs::path& path) {

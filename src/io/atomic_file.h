@@ -3,6 +3,7 @@
 // an interruption leaves the old file, if any, untouched.
 #pragma once
 
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -21,6 +22,11 @@ public:
 // removed and the error is rethrown as FileWriteError naming `path`.
 void write_atomically(const std::filesystem::path& path,
                       const std::function<void(const std::filesystem::path&)>& write);
+
+// For a writer that streams its text rather than holding all of it: `write` gets the temporary, open
+// for binary writing. Once it returns, the stream is flushed and its error flag checked, so a write
+// that failed anywhere (a full disk) throws FileWriteError naming `path`, with the system's reason.
+void write_stream_atomically(const std::filesystem::path& path, const std::function<void(std::FILE*)>& write);
 
 void write_text_atomically(const std::filesystem::path& path, std::string_view text);
 

@@ -1,0 +1,97 @@
+#include "cli/generate_command.h"
+
+#include "cli/exit_codes.h"
+#include "cli/generate_scene.h"
+#include "io/atomic_file.h"
+
+#include <cerrno>
+#include <charconv>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <system_error>
+
+namespace twinray::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct GenerateArguments {
+    std::string family;
+    int size = default_generated_primitives;
+    std::uint64_t seed = 1;
+    std::string output_path;
+};
+
+// Empty if `text` is a whole number 0..2^64-1, written in decimal digits only; else why not. CLI11's own
+// conversion would take "-1" as 2^64 - 1 and 2^64 as 2^64 - 1.
+std::string seed_problem(const std::string& text) {
+    std::uint64_t seed = 0;
+    auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), seed);
+    if (text.empty() || error != std::errc{} || end != text.data() + text.size()) {
+        return "the seed must be a whole number 0..18446744073709551615, got \"" + text + "\"";
+    }
+    return "";
+}
+
+int run_generate(const GenerateArguments& arguments) {
+    const fs::path output = arguments.output_path;
+    if (std::string problem = io::output_folder_problem(output); !problem.empty()) {
+        std::cerr << "twinray generate: cannot write " << output.string() << ": " << problem << "\n";
+        return exit_output_error;
+    }
+    GeneratedScene generated;
+    try {
+        io::write_stream_atomically(output, [&](std::FILE* stream) {
+            generated =
+                generate_scene(arguments.family, arguments.size, arguments.seed, [stream](std::string_view text) {
+                    // Stop at the first failed write (a full disk) rather than stream the rest into it.
+                    if (std::fwrite(text.data(), 1, text.size(), stream) != text.size()) {
+                        throw std::system_error(errno, std::generic_category());
+                    }
+                });
+        });
+    } catch (const io::FileWriteError& error) {
+        std::cerr << "twinray generate: " << error.what() << "\n";
+        return exit_output_error;
+    }
+    std::cerr << "twinray generate: wrote " << generated.primitives << " primitives (" << arguments.family << ", "
+              << generated.structure << ", seed " << arguments.seed << "; asked for " << arguments.size << ") to "
+              << output.string() << "\n";
+    return exit_success;
+}
+
+}  // namespace
+
+void add_generate_command(CLI::App& app, std::function<int()>& run) {
+    auto arguments = std::make_shared<GenerateArguments>();
+    CLI::App* command = app.add_subcommand(
+        "generate",
+        "Write a large generated scene (twinray-scene/1), the same bytes for the same family, size and seed:\n"
+        "  fractal  a sphereflake (9 reflective spheres around each sphere, recursively) on a floor; the depth\n"
+        "           whose count, 1 + (9^(depth+1) - 1)/8, is nearest --size\n"
+        "  field    spheres, boxes and cylinders of random sizes and materials on a floor; exactly --size\n"
+        "  lattice  a 3-D lattice of cylinders joined by spheres, a x b x c nodes with sides differing by at\n"
+        "           most one; the count nearest --size\n"
+        "  csg      an array of CSG objects (differences, intersections, unions) on a floor; exactly --size\n"
+        "           (3 for a size of 2)\n"
+        "Counts include the floor plane; ties go to the smaller scene.");
+    command->add_option("family", arguments->family, "fractal, field, lattice or csg")
+        ->required()
+        ->check(CLI::IsMember(generated_family_names()));
+    command
+        ->add_option("--size", arguments->size,
+                     "Target number of primitives (leaves), 1.." + std::to_string(max_generated_primitives))
+        ->check(CLI::Range(1, max_generated_primitives))
+        ->capture_default_str();
+    command->add_option("--seed", arguments->seed, "Seed of the family's random choices, 0..2^64-1")
+        ->check(CLI::Validator(seed_problem, "0..2^64-1"))
+        ->capture_default_str();
+    command->add_option("-o,--output", arguments->output_path, "Scene file to write (JSON)")->required();
+    command->callback([arguments, &run] { run = [arguments] { return run_generate(*arguments); }; });
+}
+
+}  // namespace twinray::cli

@@ -1,0 +1,212 @@
+#include "cli/scene_text_writer.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <utility>
+
+namespace twinray::cli {
+namespace {
+
+constexpr std::size_t piece_bytes = std::size_t{1} << 20;
+
+}  // namespace
+
+SceneTextWriter::SceneTextWriter(TextSink sink, int decimals) : sink_(std::move(sink)), grid_scale_(1) {
+    if (decimals < 0 || decimals > 9) {
+        throw std::invalid_argument("decimals must be 0..9, got " + std::to_string(decimals));
+    }
+    // Powers of ten up to 10^22 are exact doubles.
+    for (int i = 0; i < decimals; ++i) {
+        grid_scale_ *= 10;
+    }
+    text_.reserve(piece_bytes + 4096);
+}
+
+// k / 10^decimals is one correctly rounded division, so the result is the double nearest the decimal
+// k·10^-decimals, and the shortest text that reads back as it has at most that decimal's digits.
+// std::to_chars's shortest form is exact by the standard, unlike printf's "%g" and iostreams'
+// precision, whose last digit each standard library has rounded its own way.
+void SceneTextWriter::number(double value) {
+    double on_grid = std::round(value * grid_scale_) / grid_scale_;
+    if (on_grid == 0) {
+        on_grid = 0;  // no "-0"
+    }
+    char digits[64];
+    auto [end, error] = std::to_chars(digits, digits + sizeof digits, on_grid, std::chars_format::fixed);
+    if (error != std::errc{}) {
+        throw std::logic_error("generated coordinate out of range: " + std::to_string(value));
+    }
+    text_.append(digits, end);
+}
+
+void SceneTextWriter::integer(int value) {
+    text_ += std::to_string(value);
+}
+
+void SceneTextWriter::vector(Vec3 value) {
+    text_ += '[';
+    number(value.x);
+    text_ += ", ";
+    number(value.y);
+    text_ += ", ";
+    number(value.z);
+    text_ += ']';
+}
+
+void SceneTextWriter::key(std::string_view name) {
+    text_ += '"';
+    text_ += name;
+    text_ += "\": ";
+}
+
+void SceneTextWriter::begin(const scene::Scene& header) {
+    material_names_ = header.material_names;
+    text_ += "{\n  \"format\": \"twinray-scene/1\",\n  \"image\": {\"width\": ";
+    integer(header.width);
+    text_ += ", \"height\": ";
+    integer(header.height);
+    text_ += "},\n  \"camera\": {\"eye\": ";
+    vector(header.camera.eye);
+    text_ += ", \"look_at\": ";
+    vector(header.camera.look_at);
+    text_ += ", \"up\": ";
+    vector(header.camera.up);
+    text_ += ", \"fov_deg\": ";
+    number(header.camera.fov_deg);
+    text_ += "},\n  \"background\": ";
+    vector(header.background);
+    text_ += ",\n  \"ambient_light\": ";
+    vector(header.ambient_light);
+    text_ += ",\n  \"max_depth\": ";
+    integer(header.max_depth);
+    text_ += ",\n  \"materials\": {";
+    for (std::size_t i = 1; i < header.materials.size(); ++i) {
+        const scene::Material& material = header.materials[i];
+        text_ += i > 1 ? ",\n    \"" : "\n    \"";
+        text_ += header.material_names[i];
+        text_ += "\": {\"color\": ";
+        vector(material.color);
+        const std::pair<const char*, double> values[] = {{"ambient", material.ambient},
+                                                         {"diffuse", material.diffuse},
+                                                         {"phong", material.phong},
+                                                         {"phong_size", material.phong_size},
+                                                         {"reflection", material.reflection},
+                                                         {"transmission", material.transmission},
+                                                         {"ior", material.ior}};
+        for (const auto& [name, value] : values) {
+            text_ += ", ";
+            key(name);
+            number(value);
+        }
+        text_ += '}';
+    }
+    text_ += "\n  },\n  \"lights\": [";
+    for (std::size_t i = 0; i < header.lights.size(); ++i) {
+        text_ += i > 0 ? ",\n    {\"position\": " : "\n    {\"position\": ";
+        vector(header.lights[i].position);
+        text_ += ", \"color\": ";
+        vector(header.lights[i].color);
+        text_ += '}';
+    }
+    text_ += "\n  ],\n  \"objects\": [";
+    list_has_elements_ = {false};
+}
+
+void SceneTextWriter::end() {
+    if (list_has_elements_.size() != 1) {
+        throw std::logic_error("SceneTextWriter::end with a CSG node still open");
+    }
+    text_ += list_has_elements_.back() ? "\n  ]\n}\n" : "]\n}\n";
+    sink_(text_);
+    text_.clear();
+}
+
+void SceneTextWriter::begin_object(std::string_view type) {
+    const bool top_level = list_has_elements_.size() == 1;
+    if (list_has_elements_.back()) {
+        text_ += top_level ? ",\n    " : ", ";
+    } else if (top_level) {
+        text_ += "\n    ";
+    }
+    list_has_elements_.back() = true;
+    text_ += "{\"type\": \"";
+    text_ += type;
+    text_ += '"';
+}
+
+void SceneTextWriter::material_key(int material) {
+    if (material != 0) {
+        text_ += ", \"material\": \"";
+        text_ += material_names_.at(static_cast<std::size_t>(material));
+        text_ += '"';
+    }
+}
+
+void SceneTextWriter::end_object(int material) {
+    material_key(material);
+    text_ += '}';
+    // Whole top-level objects only reach the sink, so a piece never ends inside a CSG node's text.
+    if (list_has_elements_.size() == 1 && text_.size() >= piece_bytes) {
+        sink_(text_);
+        text_.clear();
+    }
+}
+
+void SceneTextWriter::plane(Vec3 normal, double offset, int material) {
+    begin_object("plane");
+    text_ += ", \"normal\": ";
+    vector(normal);
+    text_ += ", \"offset\": ";
+    number(offset);
+    ++primitives_;
+    end_object(material);
+}
+
+void SceneTextWriter::sphere(Vec3 center, double radius, int material) {
+    begin_object("sphere");
+    text_ += ", \"center\": ";
+    vector(center);
+    text_ += ", \"radius\": ";
+    number(radius);
+    ++primitives_;
+    end_object(material);
+}
+
+void SceneTextWriter::cylinder(Vec3 base, Vec3 cap, double radius, int material) {
+    begin_object("cylinder");
+    text_ += ", \"base\": ";
+    vector(base);
+    text_ += ", \"cap\": ";
+    vector(cap);
+    text_ += ", \"radius\": ";
+    number(radius);
+    ++primitives_;
+    end_object(material);
+}
+
+void SceneTextWriter::box(Vec3 min, Vec3 max, int material) {
+    begin_object("box");
+    text_ += ", \"min\": ";
+    vector(min);
+    text_ += ", \"max\": ";
+    vector(max);
+    ++primitives_;
+    end_object(material);
+}
+
+void SceneTextWriter::begin_csg(std::string_view operation, int material) {
+    begin_object(operation);
+    material_key(material);
+    text_ += ", \"children\": [";
+    list_has_elements_.push_back(false);
+}
+
+void SceneTextWriter::end_csg() {
+    list_has_elements_.pop_back();
+    text_ += ']';
+    end_object(0);
+}
+
+}  // namespace twinray::cli

@@ -1,0 +1,65 @@
+// A twinray-scene/1 file written as it is produced, for scenes too large to build as a JSON tree first
+// (`twinray generate` writes a million primitives this way in about a second, holding a mebibyte).
+// Every coordinate is put on a decimal grid and printed as the shortest text that reads back as the
+// same double, so a file is byte for byte the same on every machine and standard library, and short.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace twinray::cli {
+
+using Vec3 = scene::Vec3;
+
+// Receives the text in order, in pieces of about a mebibyte.
+using TextSink = std::function<void(std::string_view)>;
+
+class SceneTextWriter {
+public:
+    // Coordinates and sizes are rounded to multiples of 10^-decimals (0..9): choose it so that the
+    // smallest feature spans a thousand steps or more.
+    SceneTextWriter(TextSink sink, int decimals);
+
+    // Everything but the objects, from `header`: image, camera, background, ambient light, depth, its
+    // named materials (not the built-in default, materials[0]) and lights. Opens the objects list.
+    void begin(const scene::Scene& header);
+    // Closes the objects list and the document, and hands the rest of the text to the sink.
+    void end();
+
+    // `material` indexes the header's materials; 0 writes no material key (the CSG node's, or the default).
+    void plane(Vec3 normal, double offset, int material);
+    void sphere(Vec3 center, double radius, int material = 0);
+    void cylinder(Vec3 base, Vec3 cap, double radius, int material = 0);
+    void box(Vec3 min, Vec3 max, int material = 0);
+    // A union, intersection or difference: its children are the objects written until end_csg().
+    void begin_csg(std::string_view operation, int material);
+    void end_csg();
+
+    // Primitives (leaves) written so far.
+    std::int64_t primitives() const { return primitives_; }
+
+private:
+    void begin_object(std::string_view type);
+    void material_key(int material);
+    void end_object(int material);
+    void number(double value);
+    void vector(Vec3 value);
+    void integer(int value);
+    void key(std::string_view name);
+
+    TextSink sink_;
+    double grid_scale_;  // 10^decimals, exactly
+    std::string text_;
+    std::vector<std::string> material_names_;
+    // One entry per open list of objects (the top level, then each open CSG node's children): whether
+    // an element has been written to it, so the next one starts with a comma.
+    std::vector<bool> list_has_elements_;
+    std::int64_t primitives_ = 0;
+};
+
+}  // namespace twinray::cli
