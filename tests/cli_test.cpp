@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -60,6 +61,24 @@ TEST_F(CliTest, RenderWritesThePngAndReportsWhatItDid) {
     for (const char* line : {"resolution:  320 x 240", "rays traced:", "wall time:", "Mrays/s"}) {
         EXPECT_NE(result.output.find(line), std::string::npos) << line << " missing from:\n" << result.output;
     }
+}
+
+// Three nested glass spheres at max_depth 64: legal, and ended by the ray budget, which the render reports
+// with the probe command of the first pixel over it; both tracers.
+TEST_F(CliTest, RenderReportsPixelsOverTheRayBudgetWithTheProbeCommandOfTheFirst) {
+    const std::string nested = std::string(TWINRAY_SOURCE_DIR) + "/tests/data/depth/nested_glass.json";
+    for (const char* tracer : {"sse", "reference"}) {
+        CommandResult result =
+            run_twinray("render " + nested + " --tracer " + tracer + " --threads 2 -o " + output("n.png"));
+        ASSERT_EQ(result.exit_status, 0) << result.output;
+        const std::vector<std::string> lines = {"rays left out:", "(proven cutoff", "pixels ran out of their 1024 rays",
+                                                "twinray probe " + nested + " --pixel 27,7 --width 64 --height 48"};
+        for (const std::string& line : lines) {
+            EXPECT_NE(result.output.find(line), std::string::npos) << line << " missing from:\n" << result.output;
+        }
+    }
+    CommandResult plain = run_twinray("render " + scene("showcase.json") + " --width 64 -o " + output("s.png"));
+    EXPECT_EQ(plain.output.find("ray budget"), std::string::npos) << plain.output;
 }
 
 TEST_F(CliTest, RenderWritesExrWhenAskedByExtension) {

@@ -208,6 +208,13 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
     report.first_hit.headers = {
         "scene",       "rays",        "sse exact",        "sse fast", "embree rtcIntersect1", "embree rtcIntersect4",
         "sse/embree1", "sse/embree4", "hits sse - embree"};
+    report.depth.title =
+        "Adaptive depth control on scenes with mirrors or glass: the proven cutoff against none "
+        "(min_weight 0), one thread, " +
+        setting;
+    report.depth.headers = {"scene",         "tracer",         "rays, no cutoff", "rays, cutoff",
+                            "rays left out", "px over budget", "s, no cutoff",    "s, cutoff",
+                            "speed-up",      "img max change", "max PNG levels"};
     report.scaling.title = "Scaling: generated sphere fields, time per ray (ns, median of " +
                            std::to_string(arguments.runs) +
                            " runs; every ray for renders, primary rays for first hits)";
@@ -237,6 +244,8 @@ void write_outputs(const BenchArguments& arguments, const Report& report,
             io::write_text_atomically(beside("povray"), to_csv(report.povray));
         if (!report.first_hit.rows.empty())
             io::write_text_atomically(beside("first-hit"), to_csv(report.first_hit));
+        if (!report.depth.rows.empty())
+            io::write_text_atomically(beside("depth"), to_csv(report.depth));
         if (!report.scaling.rows.empty())
             io::write_text_atomically(beside("scaling"), to_csv(report.scaling));
     }
@@ -270,6 +279,7 @@ int run_bench(const BenchArguments& arguments) {
         const auto& [name, scene] = scenes[i];
         std::vector<double> sse_seconds;
         bench_scene(name, scene, arguments, configurations, summaries, sse_seconds, report);
+        bench_depth_control(name, scene, arguments, report);
         try {
             bench_process(name, scene_paths[i], scene, arguments, report);
         } catch (const std::exception& error) {
@@ -300,6 +310,8 @@ int run_bench(const BenchArguments& arguments) {
         tables.push_back(&report.povray);
     if (!report.first_hit.rows.empty())
         tables.push_back(&report.first_hit);
+    if (!report.depth.rows.empty())
+        tables.push_back(&report.depth);
     if (!report.scaling.rows.empty())
         tables.push_back(&report.scaling);
     for (const BenchTable* table : tables) {

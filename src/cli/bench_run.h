@@ -34,7 +34,7 @@ struct Configuration {
 };
 
 struct Report {
-    BenchTable trade, summary, process, povray, first_hit, scaling;
+    BenchTable trade, summary, process, povray, first_hit, scaling, depth;
 };
 
 // Every knob that can buy speed (--precision fast); dpps is the thesis's choice, timed on its own.
@@ -68,6 +68,11 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
 void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Report& report);
 // The generated sphere field: time per ray as the scene grows, at a resolution that shrinks with it.
 void bench_scaling(const BenchArguments& arguments, int all_threads, Report& report);
+
+// With mirrors or glass: rays, seconds and image change of the proven cutoff against none (min_weight 0), both
+// tracers on one thread.
+void bench_depth_control(const std::string& name, const scene::Scene& scene, const BenchArguments& arguments,
+                         Report& report);
 
 // The whole process of `twinray render` on one scene file, part by part: start-up, loading, rendering
 // (sse exact, one thread), writing .png and .exr; and the whole command, sse and reference<double>.

@@ -7,27 +7,20 @@
 namespace twinray::scene {
 namespace {
 
-// The derivation is in docs/reference-tracer.md ("Adaptive depth control"). Any ray returns the background
-// or one hit's local shading plus its children weighted by reflection and transmission, so with L the
-// largest local value and s the largest coefficient sum, a ray with k levels below it returns at most
-// L·(1 + s + … + s^k). L takes every light at full strength (N·L ≤ 1, the Phong power ≤ 1) times the
-// largest shadow transmittance.
-double largest_local_radiance(const Scene& scene, const std::vector<bool>& used, double shadow) {
-    double largest = std::max({scene.background.x, scene.background.y, scene.background.z});
-    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
-        if (!used[i]) {
-            continue;
+// The derivation is in docs/reference-tracer.md ("Adaptive depth control"). A ray returns the background,
+// or one hit's local shading plus its children weighted by reflection and transmission. Per material m,
+// L_m bounds the local shading in every channel: every light at full strength (N·L ≤ 1, the Phong power
+// ≤ 1) times the largest shadow transmittance.
+double local_radiance_bound(const Scene& scene, const Material& m, double shadow) {
+    double largest = 0;
+    for (int c = 0; c < 3; ++c) {
+        double lights = 0;
+        for (const Light& light : scene.lights) {
+            lights += (m.diffuse * m.color[c] + m.phong) * light.color[c];
         }
-        const Material& m = scene.materials[i];
-        for (int c = 0; c < 3; ++c) {
-            double lights = 0;
-            for (const Light& light : scene.lights) {
-                lights += (m.diffuse * m.color[c] + m.phong) * light.color[c];
-            }
-            // shadow may be +∞; a material no light reaches must not turn that into ∞·0 = NaN.
-            double lit = lights > 0 ? shadow * lights : 0;
-            largest = std::max(largest, m.ambient * m.color[c] * scene.ambient_light[c] + lit);
-        }
+        // shadow may be +∞; a material no light reaches must not turn that into ∞·0 = NaN.
+        double lit = lights > 0 ? shadow * lights : 0;
+        largest = std::max(largest, m.ambient * m.color[c] * scene.ambient_light[c] + lit);
     }
     return largest;
 }
@@ -47,11 +40,9 @@ DepthControl::DepthControl(const Scene& scene)
         used[static_cast<std::size_t>(material)] = true;
     }
     double largest_transmission = 0;
-    double largest_sum = 0;
     for (std::size_t i = 0; i < scene.materials.size(); ++i) {
         if (used[i]) {
             largest_transmission = std::max(largest_transmission, scene.materials[i].transmission);
-            largest_sum = std::max(largest_sum, scene.materials[i].reflection + scene.materials[i].transmission);
         }
     }
     // A shadow ray multiplies the transmission of every surface it crosses: a primitive is crossed at most
@@ -60,13 +51,28 @@ DepthControl::DepthControl(const Scene& scene)
     double shadow = largest_transmission > 1
                         ? std::pow(largest_transmission, 2.0 * static_cast<double>(scene.leaf_materials.size()))
                         : 1.0;
-    double local = largest_local_radiance(scene, used, shadow);
-    // The tracers compute in float or double what this bounds exactly: a relative margin of 2⁻¹⁰ covers
-    // their rounding (at most a few hundred roundings of 2⁻²⁴ each along a 64-deep path).
+    struct Bounded {
+        double local, children;  // L_m, and reflection + transmission (which total internal reflection keeps)
+    };
+    std::vector<Bounded> hit;
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+        if (used[i]) {
+            const Material& m = scene.materials[i];
+            hit.push_back({local_radiance_bound(scene, m, shadow), m.reflection + m.transmission});
+        }
+    }
+    double background = std::max({scene.background.x, scene.background.y, scene.background.z});
+    // B(d) = max(background, max over m of L_m + s_m·B(d + 1)), B(max_depth + 1) = 0: the most a ray at depth
+    // d returns. The tracers compute in float or double what this bounds exactly: a relative margin of 2⁻¹⁰
+    // covers their rounding (at most a few hundred roundings of 2⁻²⁴ each along a 64-deep path).
     constexpr double rounding_margin = 1.0 + 1.0 / 1024;
     double below = 0;
     for (int depth = scene.max_depth; depth >= 1; --depth) {
-        below = local + (largest_sum > 0 ? largest_sum * below : 0.0);  // no 0·∞ = NaN
+        double most = background;
+        for (const Bounded& m : hit) {
+            most = std::max(most, m.local + (m.children > 0 ? m.children * below : 0.0));  // no 0·∞ = NaN
+        }
+        below = most;
         radiance_bound_[static_cast<std::size_t>(depth)] = below * rounding_margin;
     }
 }

@@ -71,6 +71,7 @@ void check_accepted(const Scene& scene) {
     expect(scene.width >= 1 && scene.width <= max_image_side, "image width in range");
     expect(scene.height >= 1 && scene.height <= max_image_side, "image height in range");
     expect(scene.max_depth >= 1 && scene.max_depth <= max_trace_depth, "max_depth in range");
+    expect(!scene.min_weight || (std::isfinite(*scene.min_weight) && *scene.min_weight >= 0), "min_weight >= 0");
     const Camera& camera = scene.camera;
     expect(finite(camera.eye) && finite(camera.look_at) && finite(camera.up), "camera is finite");
     expect(camera.eye != camera.look_at, "camera eye differs from look_at");
