@@ -212,9 +212,10 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
         "Adaptive depth control on scenes with mirrors or glass: the proven cutoff against none "
         "(min_weight 0), one thread, " +
         setting;
-    report.depth.headers = {"scene",         "tracer",         "rays, no cutoff", "rays, cutoff",
-                            "rays left out", "px over budget", "s, no cutoff",    "s, cutoff",
-                            "speed-up",      "img max change", "max PNG levels"};
+    report.depth.headers = {
+        "scene",          "tracer",       "rays, no cutoff", "rays, cutoff", "rays left out (cutoff + budget)",
+        "px over budget", "s, no cutoff", "s, cutoff",       "speed-up",     "img max change",
+        "max PNG levels"};
     report.scaling.title = "Scaling: generated sphere fields, time per ray (ns, median of " +
                            std::to_string(arguments.runs) +
                            " runs; every ray for renders, primary rays for first hits)";

@@ -94,9 +94,13 @@ std::function<void(double)> terminal_progress(std::chrono::steady_clock::time_po
 // look first.
 void print_depth_control(const scene::Scene& scene, const std::string& scene_path, const RenderResult& result) {
     const TraceTally& tally = result.tally;
-    std::string rule = scene.min_weight ? "min_weight " + std::to_string(*scene.min_weight)
-                                        : "proven cutoff, each pixel within 0.49/255";
-    std::printf("rays left out: %llu (%s)\n", static_cast<unsigned long long>(tally.dropped_rays), rule.c_str());
+    if (scene.min_weight) {
+        std::printf("rays left out: %llu (min_weight %g)\n", static_cast<unsigned long long>(tally.dropped_rays),
+                    *scene.min_weight);
+    } else {
+        std::printf("rays left out: %llu (proven cutoff, each pixel within 0.49/255)\n",
+                    static_cast<unsigned long long>(tally.dropped_rays));
+    }
     if (tally.pixels_over_budget == 0) {
         return;
     }
