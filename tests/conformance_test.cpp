@@ -9,6 +9,7 @@
 #include "scene/loader.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
+#include "tests/scene_builder.h"
 #include "tests/scene_files.h"
 
 #include <gtest/gtest.h>
@@ -136,6 +137,57 @@ TEST_P(Conformance, RenderedImageAgreesWithTheReference) {
     RecordProperty("share_over_fail", std::to_string(share));
     EXPECT_LE(100 * share, thresholds.fail_percent) << "see twinray diff " << GetParam().string() << " -o DIR";
     EXPECT_LE(metrics.max_error, thresholds.hard_fail) << "see twinray diff " << GetParam().string() << " -o DIR";
+}
+
+// Decisions no scene of scenes/ puts to the test, with rays whose every number is exact in float and double,
+// so both tracers must decide alike: found by mutation testing (tests/mutants/), where a tracer breaking
+// each of them still passed every scene.
+struct ExactCase {
+    const char* what;
+    RefVec origin, direction;  // direction of unit length up to rounding; both tracers see the same one
+    int leaf;                  // what the reference hits, as the contract says it must
+};
+
+void expect_both_tracers_hit(const twinray::scene::Scene& scene, const std::vector<ExactCase>& cases) {
+    RefTracer reference(scene);
+    twinray::sse::Tracer sse(scene);
+    for (const ExactCase& c : cases) {
+        RefVec direction = twinray::reference::normalize(c.direction);
+        std::optional<RefHit> expected = reference.intersect({c.origin, direction});
+        twinray::sse::Vec3 float_direction(direction);
+        std::optional<twinray::sse::Hit> actual = sse.intersect({c.origin, float_direction});
+        ASSERT_TRUE(expected.has_value()) << c.what << ": the reference misses";
+        EXPECT_EQ(expected->leaf, c.leaf) << c.what << ": the reference hits " << scene.leaf_paths[expected->leaf];
+        ASSERT_TRUE(actual.has_value()) << c.what << ": sse misses; the reference hits "
+                                        << scene.leaf_paths[expected->leaf] << " at t=" << expected->t;
+        EXPECT_EQ(actual->leaf, expected->leaf) << c.what << ": sse hits " << scene.leaf_paths[actual->leaf];
+        EXPECT_NEAR(actual->t, expected->t, 4 * float_epsilon * expected->t) << c.what;
+    }
+}
+
+// The tie rule (docs/scene-format.md): at equal t the object earlier in the file is hit.
+TEST(ConformanceCases, CoincidentSurfacesAreHitOnTheEarlierObjectByBothTracers) {
+    twinray::test::SceneBuilder builder;
+    builder.object(twinray::test::sphere({0, 0, 0}, 1))
+        .object(twinray::test::sphere({0, 0, 0}, 1))
+        .object(twinray::test::box({2, -1, -1}, {4, 1, 1}))
+        .object(twinray::test::box({2, -1, -1}, {4, 1, 1}))
+        .object(twinray::test::plane({0, 1, 0}, -2))
+        .object(twinray::test::plane({0, 1, 0}, -2));
+    expect_both_tracers_hit(builder.build(), {{"two equal spheres, head on", {0, 0, 5}, {0, 0, -1}, 0},
+                                              {"two equal spheres, off centre", {0.25, 0.5, 5}, {0, 0, -1}, 0},
+                                              {"two equal boxes", {3, 0, 5}, {0, 0, -1}, 2},
+                                              {"two equal planes", {-3, 1, 0}, {0, -1, 0}, 4}});
+}
+
+// A box's span is enter ≤ exit (docs/reference-tracer.md): a ray through an edge or a corner meets the box.
+TEST(ConformanceCases, RaysTouchingABoxEdgeOrCornerHitItInBothTracers) {
+    twinray::test::SceneBuilder builder;
+    builder.object(twinray::test::box({-1, -1, -1}, {1, 1, 1}));
+    // Each ray only touches the box: it enters one slab where it leaves another, at the same t exactly.
+    expect_both_tracers_hit(builder.build(), {{"touching the edge x = -1, y = 1", {-2, 0, 0.5}, {1, 1, 0}, 0},
+                                              {"touching the edge y = 1, z = 1", {0.25, 0, 2}, {0, 1, -1}, 0},
+                                              {"touching the corner (1, 1, 1)", {2, 0, 0}, {-1, 1, 1}, 0}});
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Conformance, ::testing::ValuesIn(scene_files()),

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "scene/geometry.h"
+#include "sse/mutation.h"
 #include "sse/span4.h"
 
 namespace twinray::sse {
@@ -65,7 +66,7 @@ TWINRAY_KERNEL Span4 span_of(const BoxShape& box, const RayPacket& rays) {
         span.exit_face = select(
             farther_face, select(forward, vint4(box_face(axis, true)), vint4(box_face(axis, false))), span.exit_face);
     }
-    span.valid = span.valid & (span.enter <= span.exit);
+    span.valid = span.valid & (mutated<Mutant::box_slab_strict> ? span.enter < span.exit : span.enter <= span.exit);
     return span;
 }
 

@@ -5,6 +5,7 @@
 
 #include "render/ray_tree.h"
 #include "sse/compiled_scene.h"
+#include "sse/mutation.h"
 
 #include <algorithm>
 #include <array>
@@ -33,8 +34,9 @@ struct CameraPacket {
     // computed alone, so a pixel's ray is the same in any packet.
     template <typename P>
     RayPacket rays(int x, int y, vbool4 active) const {
-        vfloat4 px = vfloat4(static_cast<float>(x)) + vfloat4(_mm_setr_ps(0.5f, 1.5f, 0.5f, 1.5f));
-        vfloat4 py = vfloat4(static_cast<float>(y)) + vfloat4(_mm_setr_ps(0.5f, 0.5f, 1.5f, 1.5f));
+        constexpr float centre = mutated<Mutant::camera_off_by_half_pixel> ? 0.0f : 0.5f;
+        vfloat4 px = vfloat4(static_cast<float>(x)) + vfloat4(_mm_setr_ps(centre, centre + 1, centre, centre + 1));
+        vfloat4 py = vfloat4(static_cast<float>(y)) + vfloat4(_mm_setr_ps(centre, centre, centre + 1, centre + 1));
         vfloat4 u = (px * u_per_pixel - vfloat4(1.0f)) * half_width;
         vfloat4 v = (vfloat4(1.0f) - py * v_per_pixel) * half_height;
         Vec3x4 direction = normalize<P>(forward + u * right + v * up);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "sse/mutation.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -123,11 +124,13 @@ inline void csg_combine(scene::CsgOp op, const SpanArray& a, const SpanArray& b,
     switch (op) {
         case scene::CsgOp::union_:
             sweep(
-                a, b, [](bool x, bool y) { return x || y; }, out);
+                a, b, [](bool x, bool y) { return mutated<Mutant::csg_union_intersection_swapped> ? x && y : x || y; },
+                out);
             break;
         case scene::CsgOp::intersection:
             sweep(
-                a, b, [](bool x, bool y) { return x && y; }, out);
+                a, b, [](bool x, bool y) { return mutated<Mutant::csg_union_intersection_swapped> ? x || y : x && y; },
+                out);
             break;
         case scene::CsgOp::difference:
             complement(b, scratch);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "sse/compiled_scene.h"
+#include "sse/mutation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -35,7 +36,8 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
     vbool4 entering = span.enter > zero;
     vfloat4 t = select(entering, span.enter, span.exit);
     vint4 tag = select(entering, span.enter_face | vint4(tag_entering), span.exit_face);
-    vbool4 nearer = span.valid & (t > zero) & ((t < nearest.t) | ((t == nearest.t) & (leaf < nearest.leaf)));
+    vbool4 earlier = mutated<Mutant::ties_to_later_object> ? nearest.leaf < leaf : leaf < nearest.leaf;
+    vbool4 nearer = span.valid & (t > zero) & ((t < nearest.t) | ((t == nearest.t) & earlier));
     nearest.t = select(nearer, t, nearest.t);
     nearest.leaf = select(nearer, leaf, nearest.leaf);
     nearest.tag = select(nearer, tag, nearest.tag);
@@ -264,9 +266,15 @@ private:
         Vec3x4 anchors{vfloat4::load(anchor[0]), vfloat4::load(anchor[1]), vfloat4::load(anchor[2])};
         vfloat4 radii = vfloat4::load(radius);
         vfloat4 off_surface = abs(abs(dot<P>(outward, hit.point - anchors)) - abs(radii));
-        hit.point = select(off_surface > vfloat4::load(own_rounding), anchors + radii * outward, hit.point);
+        if constexpr (!mutated<Mutant::no_reprojection>) {
+            hit.point = select(off_surface > vfloat4::load(own_rounding), anchors + radii * outward, hit.point);
+        }
         hit.spawn_offset = vfloat4::load(size_bound) + vfloat4::load(point_factor) * max_abs_component(hit.point);
-        hit.normal = select(dot<P>(outward, direction) > vfloat4(0.0f), -outward, outward);
+        if constexpr (mutated<Mutant::spawn_offset_too_small>) {
+            hit.spawn_offset = hit.spawn_offset * vfloat4(0x1p-20f);
+        }
+        vbool4 facing_away = dot<P>(outward, direction) > vfloat4(0.0f);
+        hit.normal = select(mutated<Mutant::normal_faces_away> ? !facing_away : facing_away, -outward, outward);
         return hit;
     }
 

@@ -3,6 +3,7 @@
 // tracer's own translation units (built with -msse4.1) include this.
 #pragma once
 
+#include "sse/mutation.h"
 #include "sse/nearest_hit.h"
 #include "sse/ray_tree_recording.h"
 #include "sse/shadow.h"
@@ -126,7 +127,7 @@ private:
         int mask = movemask(lanes);
         for (int lane = 0; lane < 4; ++lane) {
             if ((mask >> lane) & 1) {
-                result[lane] = std::pow(base[lane], power[lane]);
+                result[lane] = std::pow(base[lane], power[lane] + (mutated<Mutant::phong_exponent_off_by_one> ? 1 : 0));
             }
         }
         return vfloat4::load(result);
@@ -175,7 +176,7 @@ private:
         if (tree != nullptr) {
             record_local_color(*tree, node, color);
         }
-        if (depth >= scene_.max_depth) {
+        if (mutated<Mutant::depth_limit_off_by_one> ? depth > scene_.max_depth : depth >= scene_.max_depth) {
             return color;
         }
         // Each lane's children are traced only if the depth control admits them (scene/depth_control.h).
@@ -188,11 +189,14 @@ private:
         vbool4 transparent = hit.hit & (m.transmission > zero);
         vbool4 total_internal = transparent & !transparent;
         if (scene_.any_transparency && any(transparent)) {
-            vfloat4 eta = select(hit.entering, reciprocal<P>(m.ior), m.ior);
+            vfloat4 eta = mutated<Mutant::snell_ratio_inverted> ? select(hit.entering, m.ior, reciprocal<P>(m.ior))
+                                                                : select(hit.entering, reciprocal<P>(m.ior), m.ior);
             vfloat4 cos_incident = -dot<P>(direction, hit.normal);
             vfloat4 sin2_transmitted = eta * eta * (vfloat4(1.0f) - cos_incident * cos_incident);
             total_internal = transparent & (sin2_transmitted > vfloat4(1.0f));
-            reflection = reflection + select(total_internal, m.transmission, zero);
+            if constexpr (!mutated<Mutant::total_internal_reflection_lost>) {
+                reflection = reflection + select(total_internal, m.transmission, zero);
+            }
             LaneShares children;
             vbool4 refracting = admit(
                 transparent & !total_internal,

@@ -2,6 +2,7 @@
 // the SSE tracer's own translation units (built with -msse4.1) include this.
 #pragma once
 
+#include "sse/mutation.h"
 #include "sse/nearest_hit.h"
 
 namespace twinray::sse {
@@ -45,7 +46,7 @@ public:
             for_each_span<P>(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float transmission) {
                 vbool4 enter_between, exit_between;
                 crossings_between(span, enter_between, exit_between);
-                vfloat4 surface(transmission);
+                vfloat4 surface(mutated<Mutant::shadow_transmission_ignored> ? 1.0f : transmission);
                 transmittance =
                     transmittance * select(enter_between, surface, one) * select(exit_between, surface, one);
             });

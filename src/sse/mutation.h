@@ -1,0 +1,35 @@
+// Deliberately wrong variants of the SSE tracer, for mutation testing (tests/mutants/, `ctest -L mutants`):
+// a build that defines TWINRAY_MUTANT to one Mutant's number must fail the conformance suite, which proves
+// the suite can fail. In every other build active_mutant is none and each `if constexpr (mutated<…>)` is
+// compiled out: the shipped tracer's code and speed are those without the hooks.
+#pragma once
+
+namespace twinray::sse {
+
+// The numbers are the build's TWINRAY_MUTANT; tests/mutants/CMakeLists.txt lists the names in this order.
+enum class Mutant : int {
+    none = 0,
+    normal_faces_away,               // the shading normal faces away from the ray
+    spawn_offset_too_small,          // secondary rays start 2⁻²⁰ of the derived offset off the surface
+    ties_to_later_object,            // at equal t the later object wins
+    no_reprojection,                 // hit points are not re-projected onto their primitive
+    snell_ratio_inverted,            // η = ior entering, 1/ior leaving
+    shadow_transmission_ignored,     // shadow rays pass transparent surfaces unattenuated
+    csg_union_intersection_swapped,  // union sweeps with "and", intersection with "or"
+    camera_off_by_half_pixel,        // primary rays through pixel corners, not centres
+    phong_exponent_off_by_one,       // max(0, R·L)^(phong_size + 1)
+    box_slab_strict,                 // a box's span needs enter < exit, not ≤
+    depth_limit_off_by_one,          // secondary rays traced while depth ≤ max_depth
+    total_internal_reflection_lost,  // on total internal reflection the transmission is not reflected
+};
+
+#ifndef TWINRAY_MUTANT
+#define TWINRAY_MUTANT 0
+#endif
+
+inline constexpr Mutant active_mutant = static_cast<Mutant>(TWINRAY_MUTANT);
+
+template <Mutant M>
+inline constexpr bool mutated = active_mutant == M;
+
+}  // namespace twinray::sse
