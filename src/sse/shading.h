@@ -187,7 +187,7 @@ private:
         }
         vfloat4 reflection = select(hit.hit, m.reflection, zero);
         vbool4 transparent = hit.hit & (m.transmission > zero);
-        vbool4 total_internal = transparent & !transparent;
+        vbool4 total_internal = none_true();
         if (scene_.any_transparency && any(transparent)) {
             vfloat4 eta = mutated<Mutant::snell_ratio_inverted> ? select(hit.entering, m.ior, reciprocal<P>(m.ior))
                                                                 : select(hit.entering, reciprocal<P>(m.ior), m.ior);
@@ -233,7 +233,7 @@ private:
     vbool4 admit(vbool4 lanes, ShareOf&& share_of, int depth, PacketWalk& walk, RayKind kind, int parent,
                  LaneShares& children) const {
         int candidates = movemask(lanes);
-        alignas(16) std::int32_t admitted[4] = {0, 0, 0, 0};
+        std::int32_t admitted[4] = {0, 0, 0, 0};
         for (std::size_t lane = 0; lane < 4; ++lane) {
             if (((candidates >> lane) & 1) == 0) {
                 continue;
@@ -247,7 +247,7 @@ private:
                                reason == scene::DropReason::budget);
             }
         }
-        return vbool4{_mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(admitted)))};
+        return lanes_from(admitted);
     }
 
     Vec3x4 trace_secondary(const Hit4& hit, const Vec3x4& direction, vbool4 lanes, const LaneShares& shares, int depth,

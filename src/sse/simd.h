@@ -123,6 +123,13 @@ inline vint4 as_int(vbool4 a) {
 inline vbool4 all_true() {
     return {_mm_castsi128_ps(_mm_set1_epi32(-1))};
 }
+inline vbool4 none_true() {
+    return {_mm_setzero_ps()};
+}
+// Lane i is true where element i of `lanes` is -1 (all bits set), false where it is 0.
+inline vbool4 lanes_from(const std::int32_t lanes[4]) {
+    return {_mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(lanes)))};
+}
 
 inline int movemask(vbool4 a) {
     return _mm_movemask_ps(a.m);
