@@ -1,5 +1,6 @@
 #include "cli/diff_command.h"
 
+#include "accuracy/attribution.h"
 #include "cli/exit_codes.h"
 #include "cli/tracers.h"
 #include "compare/image_compare.h"
@@ -57,6 +58,7 @@ struct SceneReport {
     int width, height;
     std::vector<compare::PixelError> worst;
     std::optional<PovrayColumn> povray;
+    accuracy::Attribution attribution;  // of every pixel over the warn threshold
 };
 
 TimedRender timed_render(const std::string& tracer, const scene::Scene& scene, int width) {
@@ -93,6 +95,23 @@ std::string probe_command(const SceneReport& report, const compare::PixelError& 
     return "twinray probe " + report.scene_path + " --pixel " + std::to_string(pixel.x) + "," +
            std::to_string(pixel.y) + " --width " + std::to_string(report.width) + " --height " +
            std::to_string(report.height);
+}
+
+// Why the pixels over the warn threshold differ (accuracy/attribution.h), and the worst unexplained ones.
+void print_attribution(const SceneReport& report) {
+    const accuracy::Attribution& a = report.attribution;
+    std::printf("%-12s why:", "");
+    for (int c = 0; c < accuracy::cause_count; ++c) {
+        std::printf(" %s %ld", accuracy::cause_name(static_cast<accuracy::Cause>(c)),
+                    a.counts[static_cast<std::size_t>(c)]);
+    }
+    std::printf("\n");
+    for (std::size_t i = 0; i < std::min<std::size_t>(3, a.unexplained.size()); ++i) {
+        const accuracy::AttributedPixel& pixel = a.unexplained[i];
+        std::printf("%-12s unexplained: %s at depth %d, ray %.2g rad off (band %.2g): %s\n", "",
+                    pixel.cause.what.c_str(), pixel.cause.depth, pixel.cause.deviation, pixel.cause.band,
+                    probe_command(report, {pixel.x, pixel.y, pixel.error}).c_str());
+    }
 }
 
 std::string percent(long count, long total) {
@@ -254,6 +273,8 @@ int run_diff(const DiffArguments& arguments) {
             report.metrics = compare::measure(reference.image, sse.image, report.tolerances.sse);
             report.verdict = compare::judge(report.metrics, report.tolerances.sse);
             report.worst = compare::worst_pixels(reference.image, sse.image, 10);
+            report.attribution =
+                accuracy::attribute_pixels(scene, reference.image, sse.image, report.tolerances.sse.warn);
             fs::path scene_folder = folder / report.name;
             fs::create_directories(scene_folder);
             write_image(reference.image, scene_folder / "reference.png");
@@ -270,6 +291,7 @@ int run_diff(const DiffArguments& arguments) {
                         report.tolerances.sse.fail,
                         percent(report.metrics.fail_pixels, report.metrics.pixel_count).c_str(),
                         compare::to_string(report.verdict));
+            print_attribution(report);
             std::fflush(stdout);
             worst_verdict = std::max(worst_verdict, report.verdict);
             reports.push_back(std::move(report));

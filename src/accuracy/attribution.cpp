@@ -1,0 +1,402 @@
+#include "accuracy/attribution.h"
+
+#include "sse/tracer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <variant>
+
+namespace twinray::accuracy {
+namespace {
+
+using ray_tree_detail::angle_between;
+using ray_tree_detail::max_abs;
+using ray_tree_detail::max_abs_difference;
+using RefRay = reference::Ray<double>;
+using RefVec = reference::Vec3<double>;
+
+// Float's unit roundoff, and the margin of the conformance bound (docs/conformance.md): each ray, normal
+// and intersection rounds by a few u of the size of its numbers; 64 u covers them all.
+constexpr double unit_roundoff = 0x1p-24;
+constexpr double rounding = 64 * unit_roundoff;
+constexpr double infinity = std::numeric_limits<double>::infinity();
+
+const RayNode& node_of(const RayTree& tree, int index) {
+    return tree.nodes[static_cast<std::size_t>(index)];
+}
+
+RefVec to_ref(const Vec3d& v) {
+    return {v[0], v[1], v[2]};
+}
+
+double dot3(const Vec3d& a, const Vec3d& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// The radius of curvature of a leaf's surface: a normal turns by lateral/radius when the point moves by
+// `lateral` along it; flat surfaces do not turn (infinite radius).
+struct Curvature {
+    double radius = infinity;
+};
+
+void collect_curvatures(const scene::Object& object, std::vector<Curvature>& by_leaf) {
+    std::visit(
+        [&](const auto& shape) {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<S, scene::Csg>) {
+                for (const scene::Object& child : shape.children) {
+                    collect_curvatures(child, by_leaf);
+                }
+            } else if constexpr (std::is_same_v<S, scene::Sphere> || std::is_same_v<S, scene::Cylinder>) {
+                by_leaf[static_cast<std::size_t>(object.leaf)].radius = shape.radius;
+            }
+        },
+        object.shape);
+}
+
+std::vector<Curvature> curvatures(const scene::Scene& scene) {
+    std::vector<Curvature> by_leaf(scene.leaf_paths.size());
+    for (const scene::Object& object : scene.objects) {
+        collect_curvatures(object, by_leaf);
+    }
+    return by_leaf;
+}
+
+// Where a ray with `band` meets a surface: its hit point slides across the ray and along the surface (a
+// grazing ray far along it: 1/|cos θ|, as in the conformance bound), and the normal turns by that over the
+// radius of curvature.
+void add_hit(Band& band, const RayNode& node, double radius) {
+    double cosine = std::fabs(dot3(node.normal, node.direction));
+    band.point = (band.offset + node.t * band.angle) / cosine + rounding * max_abs(node.point);
+    band.normal = band.point / radius + rounding;
+}
+
+Band band_along(const scene::Scene& scene, const std::vector<Curvature>& curvature, const RayTree& tree, int index) {
+    std::vector<int> path;
+    for (int i = index; i >= 0; i = node_of(tree, i).parent) {
+        path.push_back(i);
+    }
+    std::reverse(path.begin(), path.end());
+    Band band{rounding, rounding * max_abs(node_of(tree, path.front()).origin), 0, 0};
+    for (std::size_t k = 0; k < path.size(); ++k) {
+        const RayNode& a = node_of(tree, path[k]);
+        if (!a.hit) {
+            break;
+        }
+        add_hit(band, a, curvature[static_cast<std::size_t>(a.leaf)].radius);
+        if (k + 1 == path.size()) {
+            break;
+        }
+        // A reflected ray turns by the incoming error plus twice the normal's; a refracted one by
+        // η·cos θi / cos θt times the incoming error (Snell's law differentiated), and as much again for the
+        // normal's turn.
+        const RayNode& child = node_of(tree, path[k + 1]);
+        double gain = 1;
+        if (child.kind == RayKind::refracted) {
+            double ior = scene.material_of_leaf(a.leaf).ior;
+            double eta = a.entering ? 1 / ior : ior;
+            gain = eta * std::fabs(dot3(a.normal, a.direction)) / std::fabs(dot3(child.direction, a.normal));
+        }
+        band.angle = gain * band.angle + (1 + gain) * band.normal + rounding;
+        band.offset = band.point;
+    }
+    return band;
+}
+
+bool same_hit(const std::optional<reference::Hit<double>>& hit, const RayNode& node) {
+    if (hit.has_value() != node.hit) {
+        return false;
+    }
+    return !hit || (hit->leaf == node.leaf && hit->entering == node.entering);
+}
+
+// Two unit vectors across d.
+std::array<RefVec, 2> across(const RefVec& d) {
+    RefVec helper = std::fabs(d.x) < 0.9 ? RefVec(1, 0, 0) : RefVec(0, 1, 0);
+    RefVec u = reference::normalize(reference::cross(d, helper));
+    return {u, reference::cross(d, u)};
+}
+
+// Whether the reference, given a ray within the band of the SSE tracer's (that ray first, then tilted and
+// shifted by the band across it), makes a hit for which `agrees` holds.
+template <typename Agrees>
+bool replay_agrees(const reference::Tracer<double>& reference, const RayNode& actual, const Band& band,
+                   Agrees&& agrees) {
+    RefVec origin = to_ref(actual.origin);
+    RefVec direction = to_ref(actual.direction);
+    if (agrees(reference.intersect(RefRay{origin, direction}))) {
+        return true;
+    }
+    for (const RefVec& side : across(direction)) {
+        for (double sign : {-1.0, 1.0}) {
+            RefVec tilted = reference::normalize(direction + (sign * std::tan(band.angle)) * side);
+            RefVec shifted = origin + (sign * band.offset) * side;
+            if (agrees(reference.intersect(RefRay{origin, tilted})) ||
+                agrees(reference.intersect(RefRay{shifted, direction}))) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+// A light seen otherwise by the two tracers. Facing away in one tree only: N·L is within what the band
+// lets the normal and the point move it. Blocked in one tree only: the reference, casting shadow rays from
+// the SSE tracer's shadow origin or within the band of it, finds it blocked or open as the SSE tracer did.
+bool light_flip_explained(const scene::Scene& scene, const reference::Tracer<double>& reference,
+                          const RayNode& expected, const RayNode& actual, std::size_t light, const Band& band) {
+    const LightVisibility& mine = expected.lights[light];
+    const LightVisibility& theirs = actual.lights[light];
+    RefVec position = to_ref(scene.lights[light].position);
+    if (mine.faces_away != theirs.faces_away) {
+        double distance = reference::length(position - to_ref(expected.point));
+        return std::fabs(mine.n_dot_l) <= band.normal + band.point / distance + rounding;
+    }
+    bool blocked = theirs.transmittance == 0;
+    RefVec origin = to_ref(theirs.shadow_origin);
+    if ((reference.shadow_transmittance(origin, position) == 0) == blocked) {
+        return true;
+    }
+    for (const RefVec& side : across(reference::normalize(position - origin))) {
+        for (double sign : {-1.0, 1.0}) {
+            if ((reference.shadow_transmittance(origin + (sign * band.point) * side, position) == 0) == blocked) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+// Refracted in one tree, totally reflected in the other: sin²θt = η²(1 − cos²θi) is within what the band
+// lets the ray and the normal move it from 1.
+bool refraction_flip_explained(const scene::Scene& scene, const RayNode& expected, const Band& band) {
+    double ior = scene.material_of_leaf(expected.leaf).ior;
+    double eta = expected.entering ? 1 / ior : ior;
+    double cosine = std::fabs(dot3(expected.direction, expected.normal));
+    double sin2 = eta * eta * (1 - cosine * cosine);
+    double moved = 2 * eta * eta * (band.angle + band.normal) + rounding;
+    return std::fabs(sin2 - 1) <= moved;
+}
+
+// The local colours of one hit differ: by no more than inputs within the band can move
+// ambient + Σ s·(diffuse·C·Lc·N·L + phong·Lc·(R·L)^n), plus rounding. N·L moves by the normal's turn and the
+// light direction's (the point's shift over the light's distance); R·L by twice the normal's turn, the ray's
+// and the light direction's; s by what the two shadow rays measured (a larger change is a light flip).
+bool local_drift_explained(const scene::Scene& scene, const RayNode& expected, const RayNode& actual,
+                           const Band& band) {
+    if (!expected.hit || angle_between(expected.normal, actual.normal) > band.normal + rounding ||
+        max_abs_difference(expected.point, actual.point) > band.point) {
+        return false;
+    }
+    const scene::Material& m = scene.material_of_leaf(expected.leaf);
+    double colour = std::max({m.color.x, m.color.y, m.color.z});
+    double allowed = rounding * (1 + max_abs(expected.local));
+    for (std::size_t l = 0; l < std::min(expected.lights.size(), actual.lights.size()); ++l) {
+        const LightVisibility& mine = expected.lights[l];
+        const LightVisibility& theirs = actual.lights[l];
+        const scene::Vec3& light_colour = scene.lights[l].color;
+        double strength = std::max({light_colour.x, light_colour.y, light_colour.z});
+        double turn = band.point / reference::length(to_ref(scene.lights[l].position) - to_ref(expected.point));
+        double d_lambert = band.normal + turn + rounding;
+        double d_mirror = 2 * band.normal + band.angle + turn + rounding;
+        double d_transmittance = std::fabs(mine.transmittance - theirs.transmittance);
+        double transmittance = std::max(mine.transmittance, theirs.transmittance);
+        allowed += strength * (d_transmittance * (m.diffuse * colour + m.phong) +
+                               transmittance * (m.diffuse * colour * d_lambert + m.phong * m.phong_size * d_mirror));
+    }
+    return max_abs_difference(expected.local, actual.local) <= allowed;
+}
+
+// The node of `to` that the path of ray kinds leading to `index` in `from` reaches; -1 if `to` lacks it.
+int twin(const RayTree& from, const RayTree& to, int index) {
+    std::vector<RayKind> kinds;
+    for (int i = index; node_of(from, i).parent >= 0; i = node_of(from, i).parent) {
+        kinds.push_back(node_of(from, i).kind);
+    }
+    int j = 0;
+    for (auto kind = kinds.rbegin(); kind != kinds.rend(); ++kind) {
+        int next = -1;
+        for (int child : to.children(j)) {
+            if (node_of(to, child).kind == *kind) {
+                next = child;
+            }
+        }
+        if (next < 0) {
+            return -1;
+        }
+        j = next;
+    }
+    return j;
+}
+
+// Whether one ray's two versions, hitting the same surface, stay within the band at that ray: direction and
+// origin, t across the surface, the normal, and (`with_colour`) the local colour within what those inputs
+// can move it. The ray of a light flip is held to its geometry only: the flip changes its colour.
+bool within_band(const scene::Scene& scene, const RayNode& p, const RayNode& q, const Band& band, bool with_colour) {
+    if (angle_between(p.direction, q.direction) > band.angle ||
+        max_abs_difference(p.origin, q.origin) > band.offset + rounding * max_abs(p.origin)) {
+        return false;
+    }
+    if (!p.hit) {
+        return true;
+    }
+    if (std::fabs(p.t - q.t) * std::fabs(dot3(p.normal, p.direction)) > band.point) {
+        return false;
+    }
+    return with_colour ? local_drift_explained(scene, p, q, band) : angle_between(p.normal, q.normal) <= band.normal;
+}
+
+// A discrete difference (render/ray_tree.h marks them with threshold 0): a ray traced in one tree only, hit
+// or miss, another object, entering or leaving, a light facing away or blocked in one tree only.
+bool is_flip(const Divergence& d) {
+    return d.threshold == 0;
+}
+
+PixelCause judge_flip(const scene::Scene& scene, const std::vector<Curvature>& curvature,
+                      const reference::Tracer<double>& reference, const RayTree& expected, const RayTree& actual,
+                      const Divergence& flip) {
+    PixelCause cause{Cause::unexplained, flip.what, 0, 0, 0};
+    // A ray traced in one tree only is judged at its parent, where the decision to trace it was made.
+    int i = flip.first, j = flip.second;
+    if (flip.what == "ray") {
+        bool in_expected = flip.first >= 0;
+        const RayTree& with = in_expected ? expected : actual;
+        int parent = node_of(with, in_expected ? flip.first : flip.second).parent;
+        if (parent < 0) {
+            return cause;
+        }
+        i = in_expected ? parent : twin(actual, expected, parent);
+        j = in_expected ? twin(expected, actual, parent) : parent;
+    }
+    if (i < 0 || j < 0) {
+        return cause;
+    }
+    const RayNode& p = node_of(expected, i);
+    const RayNode& q = node_of(actual, j);
+    Band band = band_along(scene, curvature, expected, i);
+    cause.depth = p.depth;
+    cause.deviation = angle_between(p.direction, q.direction);
+    cause.band = band.angle;
+    if (cause.deviation > band.angle ||
+        max_abs_difference(p.origin, q.origin) > band.offset + rounding * max_abs(p.origin)) {
+        return cause;
+    }
+    const std::string& what = flip.what;
+    bool explained = false;
+    if (what == "hit" || what == "object" || what == "entering") {
+        cause.cause = Cause::silhouette;
+        explained = replay_agrees(reference, q, band, [&](const auto& hit) { return same_hit(hit, q); });
+    } else if (what == "ray") {
+        cause.cause = Cause::refraction;
+        explained =
+            p.hit && scene.material_of_leaf(p.leaf).transmission > 0 && refraction_flip_explained(scene, p, band);
+    } else if (what.rfind("lights[", 0) == 0) {
+        cause.cause = Cause::shadow;
+        std::size_t light = static_cast<std::size_t>(std::stoul(what.substr(7)));
+        explained = light < p.lights.size() && light < q.lights.size() &&
+                    light_flip_explained(scene, reference, p, q, light, band);
+    }
+    if (!explained) {
+        cause.cause = Cause::unexplained;
+    }
+    return cause;
+}
+
+PixelCause attribute_with(const scene::Scene& scene, const std::vector<Curvature>& curvature,
+                          const reference::Tracer<double>& reference, const RayTree& expected, const RayTree& actual) {
+    std::vector<Divergence> divergences = find_divergences(expected, actual);
+    auto flip = std::find_if(divergences.begin(), divergences.end(), is_flip);
+    // Every ray traced before the first flip, in both trees alike, must stay within its band: the probe's
+    // thresholds are far above rounding, the bands are not.
+    const int count = static_cast<int>(expected.nodes.size());
+    int flip_node = flip == divergences.end() || flip->first < 0 ? count : flip->first;
+    for (int i = 0; i <= std::min(flip_node, count - 1); ++i) {
+        int j = twin(expected, actual, i);
+        if (j < 0) {
+            continue;
+        }
+        const RayNode& p = node_of(expected, i);
+        const RayNode& q = node_of(actual, j);
+        if (p.hit != q.hit || (p.hit && p.leaf != q.leaf)) {
+            continue;  // judged as the flip
+        }
+        Band band = band_along(scene, curvature, expected, i);
+        if (!within_band(scene, p, q, band, i < flip_node)) {
+            // The other face at an edge turns the normal: the reference, given a ray within the band, meets the
+            // face the SSE tracer met.
+            bool ray_in_band = angle_between(p.direction, q.direction) <= band.angle &&
+                               max_abs_difference(p.origin, q.origin) <= band.offset + rounding * max_abs(p.origin);
+            bool edge =
+                p.hit && ray_in_band && angle_between(p.normal, q.normal) > band.normal &&
+                replay_agrees(reference, q, band, [&](const auto& hit) {
+                    return hit && same_hit(hit, q) &&
+                           angle_between(Vec3d{hit->normal.x, hit->normal.y, hit->normal.z}, q.normal) <= band.normal;
+                });
+            return {edge ? Cause::silhouette : Cause::unexplained, edge ? "normal" : "drift beyond the band", p.depth,
+                    angle_between(p.direction, q.direction), band.angle};
+        }
+    }
+    if (flip == divergences.end()) {
+        return {Cause::drift, divergences.empty() ? "" : divergences.front().what, 0, 0, 0};
+    }
+    return judge_flip(scene, curvature, reference, expected, actual, *flip);
+}
+
+double largest_difference(const Rgb& a, const Rgb& b) {
+    return std::max({std::fabs(static_cast<double>(a.r) - b.r), std::fabs(static_cast<double>(a.g) - b.g),
+                     std::fabs(static_cast<double>(a.b) - b.b)});
+}
+
+}  // namespace
+
+const char* cause_name(Cause cause) {
+    switch (cause) {
+        case Cause::silhouette: return "silhouette";
+        case Cause::shadow: return "shadow";
+        case Cause::refraction: return "refraction";
+        case Cause::drift: return "drift";
+        case Cause::unexplained: return "unexplained";
+    }
+    return "?";
+}
+
+Band band_at(const scene::Scene& scene, const RayTree& tree, int node) {
+    return band_along(scene, curvatures(scene), tree, node);
+}
+
+PixelCause attribute(const scene::Scene& scene, const reference::Tracer<double>& reference, const RayTree& expected,
+                     const RayTree& actual) {
+    return attribute_with(scene, curvatures(scene), reference, expected, actual);
+}
+
+Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_image, const Image& sse_image,
+                             double threshold) {
+    const int width = reference_image.width(), height = reference_image.height();
+    reference::Tracer<double> reference(scene);
+    sse::Tracer sse(scene);
+    std::vector<Curvature> curvature = curvatures(scene);
+    Attribution attribution;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            double error = largest_difference(reference_image.at(x, y), sse_image.at(x, y));
+            if (!(error > threshold)) {
+                continue;
+            }
+            RayTree expected, actual;
+            reference.trace(reference.primary_ray(x, y, width, height), 1, nullptr, &expected);
+            sse.trace(sse.primary_ray(x, y, width, height), 1, nullptr, &actual);
+            PixelCause cause = attribute_with(scene, curvature, reference, expected, actual);
+            ++attribution.counts[static_cast<std::size_t>(cause.cause)];
+            if (cause.cause == Cause::unexplained) {
+                attribution.unexplained.push_back({x, y, error, cause});
+            }
+        }
+    }
+    std::stable_sort(attribution.unexplained.begin(), attribution.unexplained.end(),
+                     [](const AttributedPixel& a, const AttributedPixel& b) { return a.error > b.error; });
+    return attribution;
+}
+
+}  // namespace twinray::accuracy

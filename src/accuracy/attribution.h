@@ -1,0 +1,68 @@
+// Why a pixel differs between the tracers (docs/conformance.md, "Why a pixel differs"): the first place
+// their ray trees part, judged against the band float rounding allows there, propagated down the tree.
+//
+// Each class is a decision the SSE tracer's inputs legitimately tipped: at the ray where the trees part,
+// the SSE tracer's ray is within the band of the reference's, and the reference itself, replayed with the
+// SSE tracer's inputs (or inputs within the band), decides as the SSE tracer did. Anything else is
+// unexplained: a difference float rounding cannot account for.
+#pragma once
+
+#include "image/image.h"
+#include "reference/tracer.h"
+#include "render/ray_tree.h"
+#include "scene/scene.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace twinray::accuracy {
+
+enum class Cause {
+    silhouette,   // hit or miss, another object, entering or leaving: a ray grazing an edge, silhouette, CSG seam
+    shadow,       // a light blocked or facing away in one tree only: a grazing light or an occluder's silhouette
+    refraction,   // refracted in one tree, totally reflected in the other: the critical angle
+    drift,        // the same decisions; numbers or colours apart by what the propagated band allows
+    unexplained,  // none of the above
+};
+constexpr int cause_count = 5;
+const char* cause_name(Cause cause);
+
+// The band at one ray of the reference's tree: how far the SSE tracer's ray may be off it after float
+// rounding at every ray above it (radians between directions; distance between origins), and, where the
+// ray hits, how far apart the two hit points and normals may be.
+struct Band {
+    double angle = 0;
+    double offset = 0;
+    double point = 0;
+    double normal = 0;
+};
+Band band_at(const scene::Scene& scene, const RayTree& tree, int node);
+
+struct PixelCause {
+    Cause cause = Cause::drift;
+    std::string what;      // the first divergence (render/ray_tree.h), or empty where the trees agree
+    int depth = 0;         // of the ray where the trees part
+    double deviation = 0;  // the SSE ray's direction off the reference's there (radians)
+    double band = 0;       // the band's angle there
+};
+
+// Why the trees `expected` (reference<double>) and `actual` (sse) of one ray differ; `reference` replays.
+PixelCause attribute(const scene::Scene& scene, const reference::Tracer<double>& reference, const RayTree& expected,
+                     const RayTree& actual);
+
+struct AttributedPixel {
+    int x = 0, y = 0;
+    double error = 0;  // largest channel difference
+    PixelCause cause;
+};
+
+// Every pixel of the two renders differing by more than `threshold` in some channel, attributed.
+struct Attribution {
+    std::array<long, cause_count> counts{};
+    std::vector<AttributedPixel> unexplained;  // the largest errors first
+};
+Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_image, const Image& sse_image,
+                             double threshold);
+
+}  // namespace twinray::accuracy
