@@ -38,6 +38,10 @@ TEST(Attribution, EveryPixelOfEverySceneThatDiffersHasAnExplainedCause) {
                         attribution.counts[static_cast<std::size_t>(c)]);
         }
         std::printf("\n");
+        // The verdict rule twinray diff applies, here to many more pixels than its warn threshold lets in.
+        EXPECT_EQ(accuracy::attribution_failure(attribution, static_cast<long>(expected.width()) * expected.height()),
+                  "")
+            << path.stem();
         for (std::size_t i = 0; i < std::min<std::size_t>(5, attribution.unexplained.size()); ++i) {
             const accuracy::AttributedPixel& p = attribution.unexplained[i];
             ADD_FAILURE() << path.stem() << " pixel " << p.x << "," << p.y << " (error " << p.error << "): unexplained "

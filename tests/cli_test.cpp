@@ -222,6 +222,20 @@ TEST_F(CliTest, DiffWritesPerSceneImagesAndAReportWithProbeCommands) {
     EXPECT_NE(result.output.find("index.html"), std::string::npos) << result.output;
 }
 
+// --json: per scene the verdict, the pixels per cause (accuracy/attribution.h) and the unexplained ones.
+TEST_F(CliTest, DiffJsonGivesEachSceneItsVerdictAndItsPixelsPerCause) {
+    CommandResult result = run_twinray("diff " + scene("complete2.json") + " " + scene("spheres.json") + " -o " +
+                                       output("report") + " --json " + output("diff.json"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_NE(result.output.find("why: silhouette"), std::string::npos) << result.output;
+    std::ifstream file(output("diff.json"));
+    std::string json((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    for (const char* part : {"\"name\": \"complete2\"", "\"name\": \"spheres\"", "\"verdict\": \"PASS\"",
+                             "\"silhouette\": 2", "\"unexplained\": 0", "\"unexplained\": []"}) {
+        EXPECT_NE(json.find(part), std::string::npos) << part << " missing from:\n" << json;
+    }
+}
+
 TEST_F(CliTest, GoldenUpdatesOnlyOnPurposeAndReportsWhatChanged) {
     CommandResult refused = run_twinray("golden " + scene("spheres.json") + " --golden-folder " + folder_.string());
     EXPECT_EQ(refused.exit_status, 1) << refused.output;

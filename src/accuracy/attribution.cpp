@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 #include <variant>
@@ -397,6 +398,26 @@ Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_i
     std::stable_sort(attribution.unexplained.begin(), attribution.unexplained.end(),
                      [](const AttributedPixel& a, const AttributedPixel& b) { return a.error > b.error; });
     return attribution;
+}
+
+std::string attribution_failure(const Attribution& attribution, long pixel_count, const ClassBudgets& budgets) {
+    auto count = [&](Cause cause) { return attribution.counts[static_cast<std::size_t>(cause)]; };
+    if (long unexplained = count(Cause::unexplained); unexplained > 0) {
+        return std::to_string(unexplained) + " unexplained pixel" + (unexplained == 1 ? "" : "s");
+    }
+    const std::pair<Cause, double> budgeted[] = {{Cause::silhouette, budgets.silhouette_percent},
+                                                 {Cause::shadow, budgets.shadow_percent},
+                                                 {Cause::refraction, budgets.refraction_percent}};
+    for (const auto& [cause, percent] : budgeted) {
+        double share = 100.0 * static_cast<double>(count(cause)) / static_cast<double>(std::max(pixel_count, 1L));
+        if (share > percent) {
+            char text[160];
+            std::snprintf(text, sizeof text, "%s pixels %.3g%% of the image, over their budget of %.3g%%",
+                          cause_name(cause), share, percent);
+            return text;
+        }
+    }
+    return "";
 }
 
 }  // namespace twinray::accuracy

@@ -65,4 +65,15 @@ struct Attribution {
 Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_image, const Image& sse_image,
                              double threshold);
 
+// The verdict rule (docs/conformance.md, "Why a pixel differs"): a scene fails when any pixel is unexplained,
+// or when the pixels of an explained class exceed its budget, a share of the image's pixels. Drift has no
+// budget of its own: the image thresholds bound it.
+struct ClassBudgets {
+    double silhouette_percent = 0.5;
+    double shadow_percent = 0.5;
+    double refraction_percent = 0.5;
+};
+// Empty when the scene passes the rule, else why it fails.
+std::string attribution_failure(const Attribution& attribution, long pixel_count, const ClassBudgets& budgets = {});
+
 }  // namespace twinray::accuracy

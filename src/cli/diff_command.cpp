@@ -11,6 +11,8 @@
 #include "pov/povray_runner.h"
 #include "scene/loader.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -34,6 +36,7 @@ struct DiffArguments {
     int width = 0;
     double map_scale = 4.0 / 255.0;
     bool with_povray = false;
+    std::string json_path;
 };
 
 // POV-Ray's render of the scene against the reference's, both as 8-bit PNGs store them.
@@ -59,6 +62,7 @@ struct SceneReport {
     std::vector<compare::PixelError> worst;
     std::optional<PovrayColumn> povray;
     accuracy::Attribution attribution;  // of every pixel over the warn threshold
+    std::string attribution_failure;    // why the verdict rule fails the scene; empty if it does not
 };
 
 TimedRender timed_render(const std::string& tracer, const scene::Scene& scene, int width) {
@@ -105,13 +109,50 @@ void print_attribution(const SceneReport& report) {
         std::printf(" %s %ld", accuracy::cause_name(static_cast<accuracy::Cause>(c)),
                     a.counts[static_cast<std::size_t>(c)]);
     }
-    std::printf("\n");
+    std::printf("%s\n", report.attribution_failure.empty() ? "" : ("  -> FAIL: " + report.attribution_failure).c_str());
     for (std::size_t i = 0; i < std::min<std::size_t>(3, a.unexplained.size()); ++i) {
         const accuracy::AttributedPixel& pixel = a.unexplained[i];
         std::printf("%-12s unexplained: %s at depth %d, ray %.2g rad off (band %.2g): %s\n", "",
                     pixel.cause.what.c_str(), pixel.cause.depth, pixel.cause.deviation, pixel.cause.band,
                     probe_command(report, {pixel.x, pixel.y, pixel.error}).c_str());
     }
+}
+
+// What scripts read of a diff (--json): per scene its verdict and metrics, the pixels per cause and every
+// unexplained pixel with its probe command.
+nlohmann::json report_json(const std::vector<SceneReport>& reports) {
+    nlohmann::json scenes = nlohmann::json::array();
+    for (const SceneReport& r : reports) {
+        nlohmann::json causes = nlohmann::json::object();
+        for (int c = 0; c < accuracy::cause_count; ++c) {
+            causes[accuracy::cause_name(static_cast<accuracy::Cause>(c))] =
+                r.attribution.counts[static_cast<std::size_t>(c)];
+        }
+        nlohmann::json unexplained = nlohmann::json::array();
+        for (const accuracy::AttributedPixel& pixel : r.attribution.unexplained) {
+            unexplained.push_back({{"x", pixel.x},
+                                   {"y", pixel.y},
+                                   {"error", pixel.error},
+                                   {"what", pixel.cause.what},
+                                   {"depth", pixel.cause.depth},
+                                   {"deviation", pixel.cause.deviation},
+                                   {"band", pixel.cause.band},
+                                   {"probe", probe_command(r, {pixel.x, pixel.y, pixel.error})}});
+        }
+        scenes.push_back({{"name", r.name},
+                          {"scene", r.scene_path},
+                          {"verdict", compare::to_string(r.verdict)},
+                          {"width", r.width},
+                          {"height", r.height},
+                          {"max_error", r.metrics.max_error},
+                          {"rms_error", r.metrics.rms_error},
+                          {"pixels_over_fail", r.metrics.fail_pixels},
+                          {"pixels_over_warn", r.metrics.warn_pixels},
+                          {"causes", causes},
+                          {"attribution_failure", r.attribution_failure},
+                          {"unexplained", unexplained}});
+    }
+    return {{"scenes", scenes}};
 }
 
 std::string percent(long count, long total) {
@@ -275,6 +316,10 @@ int run_diff(const DiffArguments& arguments) {
             report.worst = compare::worst_pixels(reference.image, sse.image, 10);
             report.attribution =
                 accuracy::attribute_pixels(scene, reference.image, sse.image, report.tolerances.sse.warn);
+            report.attribution_failure = accuracy::attribution_failure(report.attribution, report.metrics.pixel_count);
+            if (!report.attribution_failure.empty()) {
+                report.verdict = compare::Verdict::fail;
+            }
             fs::path scene_folder = folder / report.name;
             fs::create_directories(scene_folder);
             write_image(reference.image, scene_folder / "reference.png");
@@ -298,6 +343,9 @@ int run_diff(const DiffArguments& arguments) {
         }
         io::write_text_atomically(folder / "index.html",
                                   report_page(reports, arguments.map_scale, arguments.with_povray));
+        if (!arguments.json_path.empty()) {
+            io::write_text_atomically(arguments.json_path, report_json(reports).dump(2) + "\n");
+        }
     } catch (const ImageFileError& error) {
         std::cerr << "twinray diff: " << error.what() << "\n";
         return exit_output_error;
@@ -337,6 +385,10 @@ void add_diff_command(CLI::App& app, std::function<int()>& run) {
     command->add_option("--map-scale", arguments->map_scale, "Error shown brightest in the heat maps")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    command->add_option(
+        "--json", arguments->json_path,
+        "Also write every scene's verdict, metrics, causes per class and unexplained pixels (with their "
+        "probe commands) to FILE as JSON");
     command->add_flag(
         "--pov", arguments->with_povray,
         "Also render each scene with POV-Ray 3.7 (twinray pov) and show its image and error map against the reference");
