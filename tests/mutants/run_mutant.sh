@@ -18,7 +18,9 @@ if [ -z "$failed" ]; then
   tail -5 <<<"$output"
   exit 0
 fi
-echo "mutant | $mutant | caught by $count | $(head -3 <<<"$failed" | tr '\n' ' ')"
+# Whether the attribution found pixels no float rounding explains: the verdict class that caught it.
+unexplained="$(grep -c 'unexplained' <<<"$output")"
+echo "mutant | $mutant | caught by $count ($unexplained unexplained-pixel reports) | $(head -3 <<<"$failed" | tr '\n' ' ')"
 # The first failure's message: what the suite saw.
 grep -m 1 -A 3 'Failure$' <<<"$output"
 exit 0
