@@ -397,6 +397,9 @@ Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_i
     }
     std::stable_sort(attribution.unexplained.begin(), attribution.unexplained.end(),
                      [](const AttributedPixel& a, const AttributedPixel& b) { return a.error > b.error; });
+    if (attribution.unexplained.size() > max_unexplained_listed) {
+        attribution.unexplained.resize(max_unexplained_listed);
+    }
     return attribution;
 }
 

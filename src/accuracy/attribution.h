@@ -58,9 +58,10 @@ struct AttributedPixel {
 };
 
 // Every pixel of the two renders differing by more than `threshold` in some channel, attributed.
+constexpr std::size_t max_unexplained_listed = 1000;
 struct Attribution {
     std::array<long, cause_count> counts{};
-    std::vector<AttributedPixel> unexplained;  // the largest errors first
+    std::vector<AttributedPixel> unexplained;  // the largest errors first, at most max_unexplained_listed
 };
 Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_image, const Image& sse_image,
                              double threshold);
