@@ -1,0 +1,49 @@
+// The page `twinray diff` writes (DIR/index.html), laid out for triage: a summary, the scenes failures first
+// with a filter, and per scene the images, the error map with its failing clusters boxed, the numbers and
+// the commands to run next. Opens from disk: no network, no external resources.
+#pragma once
+
+#include "compare/failing_clusters.h"
+#include "compare/image_compare.h"
+#include "compare/tolerances.h"
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace twinray::cli {
+
+// POV-Ray's render of the scene against the reference's, both as 8-bit PNGs store them.
+struct PovrayColumn {
+    double seconds = 0;
+    compare::Metrics metrics;
+    long within_two_levels = 0;
+};
+
+struct SceneReport {
+    std::string name;        // the scene file's stem, also the folder of its images
+    std::string scene_path;  // as given on the command line, for the commands the page prints
+    compare::SceneTolerances tolerances;
+    compare::Metrics metrics;
+    compare::Verdict verdict = compare::Verdict::pass;
+    double reference_seconds = 0, sse_seconds = 0;  // tracing alone, without the tracer's set-up
+    int width = 0, height = 0;
+    std::vector<compare::PixelError> worst;
+    std::vector<compare::FailingCluster> clusters;
+    // Differing pixels per attribution class ("unexplained", ...). No classifier fills it yet: empty, and
+    // shown as "attribution: not computed".
+    std::map<std::string, long> pixels_per_class;
+    std::optional<PovrayColumn> povray;
+};
+
+// The legend's image, written beside the page.
+inline constexpr const char* legend_file = "legend.png";
+
+// "0.0123%": count as a share of total.
+std::string percent(long count, long total);
+
+// Scenes are shown FAIL first, then WARN, then PASS, each by name.
+std::string report_page(std::vector<SceneReport> reports, const compare::HeatMapScale& scale, bool with_povray);
+
+}  // namespace twinray::cli
