@@ -183,7 +183,7 @@ std::string scene_section(const SceneReport& r) {
     html << "<section class=\"scene " << verdict << "\" data-status=\"" << verdict << "\" data-name=\""
          << html_escape(r.name) << "\">\n<header><h2>" << html_escape(r.name) << "</h2><span class=\"badge " << verdict
          << "\">" << verdict << "</span><span>" << r.width << "&times;" << r.height << "</span><span>"
-         << r.metrics.fail_pixels << " pixels over " << format("%.4g", r.tolerances.sse.fail) << " ("
+         << count_of(r.metrics.fail_pixels, "pixel") << " over " << format("%.4g", r.tolerances.sse.fail) << " ("
          << percent(r.metrics.fail_pixels, r.metrics.pixel_count) << "), max " << format("%.4g", r.metrics.max_error)
          << "</span></header>\n<div class=\"panels\">\n"
          << flip_figure(r) << error_map_figure(r)
