@@ -255,6 +255,8 @@ TEST_F(CliTest, DiffReportPutsFailuresFirstWithSummaryFilterAndApproveCommands) 
     }
     EXPECT_NE(html.find("<rect x="), std::string::npos) << "spheres' failing pixels boxed on its error map";
     EXPECT_TRUE(fs::exists(folder_ / "report" / "legend.png"));
+    EXPECT_NE(html.find("thresholds per scene: " + output("tolerances.json")), std::string::npos)
+        << "the page names the manifest it judged by";
 }
 
 TEST_F(CliTest, GoldenUpdatesOnlyOnPurposeAndReportsWhatChanged) {

@@ -84,7 +84,9 @@ int run_diff(const DiffArguments& arguments) {
         return exit_cpu_unsupported;
     }
     compare::ToleranceManifest manifest = compare::ToleranceManifest::defaults();
+    std::string thresholds_source = "the built-in defaults (" + arguments.tolerances + " not found)";
     if (fs::exists(arguments.tolerances)) {
+        thresholds_source = arguments.tolerances;
         try {
             manifest = compare::ToleranceManifest::load(arguments.tolerances);
         } catch (const std::runtime_error& error) {
@@ -157,7 +159,8 @@ int run_diff(const DiffArguments& arguments) {
             worst_verdict = std::max(worst_verdict, report.verdict);
             reports.push_back(std::move(report));
         }
-        io::write_text_atomically(folder / "index.html", report_page(std::move(reports), scale, arguments.with_povray));
+        io::write_text_atomically(folder / "index.html",
+                                  report_page(std::move(reports), scale, arguments.with_povray, thresholds_source));
     } catch (const ImageFileError& error) {
         std::cerr << "twinray diff: " << error.what() << "\n";
         return exit_output_error;

@@ -350,7 +350,8 @@ std::string percent(long count, long total) {
     return format("%.4f%%", 100.0 * static_cast<double>(count) / static_cast<double>(std::max(total, 1L)));
 }
 
-std::string report_page(std::vector<SceneReport> reports, const compare::HeatMapScale& scale, bool with_povray) {
+std::string report_page(std::vector<SceneReport> reports, const compare::HeatMapScale& scale, bool with_povray,
+                        const std::string& thresholds_source) {
     std::stable_sort(reports.begin(), reports.end(), [](const SceneReport& a, const SceneReport& b) {
         return a.verdict != b.verdict ? a.verdict > b.verdict : a.name < b.name;
     });
@@ -361,7 +362,7 @@ std::string report_page(std::vector<SceneReport> reports, const compare::HeatMap
          << (with_povray ? " (and POV-Ray)" : "") << "</h1>\n"
          << summary(reports) << filter_controls(reports.size()) << legend(scale)
          << "<p class=\"label\">Images are compared as stored (clamped to [0, 1]); thresholds per scene: "
-            "<code>tests/tolerances.json</code>.</p>\n";
+         << html_escape(thresholds_source) << ".</p>\n";
     for (const SceneReport& report : reports) {
         html << scene_section(report);
     }

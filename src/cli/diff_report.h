@@ -44,6 +44,8 @@ inline constexpr const char* legend_file = "legend.png";
 std::string percent(long count, long total);
 
 // Scenes are shown FAIL first, then WARN, then PASS, each by name.
-std::string report_page(std::vector<SceneReport> reports, const compare::HeatMapScale& scale, bool with_povray);
+// `thresholds_source` names where the scenes' thresholds came from (the manifest, or the built-in defaults).
+std::string report_page(std::vector<SceneReport> reports, const compare::HeatMapScale& scale, bool with_povray,
+                        const std::string& thresholds_source);
 
 }  // namespace twinray::cli
