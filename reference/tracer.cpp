@@ -2,6 +2,7 @@
 
 #include "reference/csg.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -323,6 +324,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
     Tracer<T> tracer(scene);
     Image image(size.width, size.height);
+    const auto start = std::chrono::steady_clock::now();
     TraceTally tally = parallel_sum<TraceTally>(
         size.height, options.threads,
         [&](int y) {
@@ -336,7 +338,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
             return row;
         },
         options.progress, options.cancel);
-    return {std::move(image), tally};
+    return {std::move(image), tally, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
 }
 
 template class Tracer<double>;

@@ -236,6 +236,42 @@ TEST_F(CliTest, DiffJsonGivesEachSceneItsVerdictAndItsPixelsPerCause) {
     }
 }
 
+// Thresholds of 0 make any difference fail (spheres) or warn (csg), so the three scenes get three verdicts in
+// the reverse of their names' order: the page must put them failures first all the same.
+TEST_F(CliTest, DiffReportPutsFailuresFirstWithSummaryFilterAndApproveCommands) {
+    std::ofstream(output("tolerances.json")) << R"({"scenes": {
+        "spheres": {"sse": {"fail": 0, "fail_percent": 0}},
+        "csg": {"sse": {"warn": 0, "warn_percent": 0}}}})";
+    CommandResult result =
+        run_twinray("diff " + scene("planes.json") + " " + scene("csg.json") + " " + scene("spheres.json") +
+                    " --width 80 --tolerances " + output("tolerances.json") + " -o " + output("report"));
+    ASSERT_EQ(result.exit_status, 2) << result.output;
+    std::ifstream page(folder_ / "report" / "index.html");
+    std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+    const auto spheres = html.find("data-name=\"spheres\""), csg = html.find("data-name=\"csg\""),
+               planes = html.find("data-name=\"planes\"");
+    ASSERT_NE(planes, std::string::npos) << html;
+    EXPECT_LT(spheres, csg) << "FAIL before WARN";
+    EXPECT_LT(csg, planes) << "WARN before PASS";
+    for (const char* summary : {">1 FAIL<", ">1 WARN<", ">1 PASS<", "pixels over their scene's fail threshold, in all",
+                                "unexplained pixels, in all", "why pixels over 0 differ</th><td>silhouette: "}) {
+        EXPECT_NE(html.find(summary), std::string::npos) << summary << " missing from the page";
+    }
+    for (const char* control : {"type=\"checkbox\" name=\"status\" value=\"FAIL\"", "value=\"WARN\"", "value=\"PASS\"",
+                                "id=\"name-filter\"", "class=\"flip\"", "button type=\"button\" class=\"copy\""}) {
+        EXPECT_NE(html.find(control), std::string::npos) << control << " missing from the page";
+    }
+    for (const char* name : {"planes", "csg", "spheres"}) {
+        EXPECT_NE(html.find("<code>twinray golden --update " + scene(std::string(name) + ".json") + "</code>"),
+                  std::string::npos)
+            << "the approve command of " << name;
+    }
+    EXPECT_NE(html.find("<rect x="), std::string::npos) << "spheres' failing pixels boxed on its error map";
+    EXPECT_TRUE(fs::exists(folder_ / "report" / "legend.png"));
+    EXPECT_NE(html.find("thresholds per scene: " + output("tolerances.json")), std::string::npos)
+        << "the page names the manifest it judged by";
+}
+
 TEST_F(CliTest, GoldenUpdatesOnlyOnPurposeAndReportsWhatChanged) {
     CommandResult refused = run_twinray("golden " + scene("spheres.json") + " --golden-folder " + folder_.string());
     EXPECT_EQ(refused.exit_status, 1) << refused.output;

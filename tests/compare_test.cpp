@@ -1,15 +1,18 @@
-// The comparison library (metrics, verdicts, worst pixels, heat maps, tolerance manifest) on images
-// made by hand, so every expected number is known.
+// The comparison library (metrics, verdicts, worst pixels, heat maps, failing clusters, tolerance manifest)
+// on images made by hand, so every expected number is known.
+#include "compare/failing_clusters.h"
 #include "compare/image_compare.h"
 #include "compare/tolerances.h"
 #include "image/image_file.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -76,16 +79,112 @@ TEST(CompareWorstPixels, AreOrderedByErrorThenTopLeftFirst) {
     EXPECT_NEAR(worst[0].error, 0.5, 1e-7);
 }
 
-TEST(CompareHeatMap, UsesAFixedScaleSoErrorsAtTheScaleAreBrightestAndZeroIsDark) {
+TEST(CompareHeatMap, LinearScaleIsFixedSoErrorsAtTheScaleAreBrightestAndZeroIsDark) {
     Image a = flat(3, 1, {0, 0, 0});
     Image b = a;
     b.at(1, 0) = {0.01f, 0, 0};
     b.at(2, 0) = {0.5f, 0, 0};  // far over the scale: clamped to the brightest
-    Image map = compare::error_heat_map(a, b, 0.01);
+    Image map = compare::error_heat_map(a, b, compare::HeatMapScale::linear(0.01));
     auto brightness = [&](int x) { return map.at(x, 0).r + map.at(x, 0).g + map.at(x, 0).b; };
     EXPECT_LT(brightness(0), 0.1f) << "zero error is near black in inferno";
     EXPECT_GT(brightness(1), 2.0f) << "an error at the scale is the brightest colour";
     EXPECT_NEAR(brightness(1), brightness(2), 1e-6);
+}
+
+// The report's scale: each decade from 1e-7 to 1 an eighth of the colour map, the lowest eighth kept for 0.
+TEST(CompareHeatMap, LogarithmicScaleGivesEachDecadeAnEighthAndZeroAloneIsBlack) {
+    const auto scale = compare::HeatMapScale::logarithmic(1e-7, 1);
+    EXPECT_EQ(scale.level(0), 0.0);
+    EXPECT_DOUBLE_EQ(scale.level(1e-9), 0.125) << "below 1e-7: the darkest colour, still not black";
+    EXPECT_DOUBLE_EQ(scale.level(1e-7), 0.125);
+    EXPECT_NEAR(scale.level(1e-4), 0.5, 1e-12);
+    EXPECT_DOUBLE_EQ(scale.level(1), 1.0);
+    EXPECT_DOUBLE_EQ(scale.level(3), 1.0);
+    EXPECT_DOUBLE_EQ(scale.level(std::nan("")), 1.0) << "a NaN error is shown brightest, never hidden";
+
+    Image a = flat(4, 1, {0, 0, 0});
+    Image b = a;
+    b.at(1, 0) = {0, 1e-7f, 0};
+    b.at(2, 0) = {0, 0, 1e-4f};
+    b.at(3, 0) = {1, 0, 0};
+    Image map = compare::error_heat_map(a, b, scale);
+    auto brightness = [&](int x) { return map.at(x, 0).r + map.at(x, 0).g + map.at(x, 0).b; };
+    EXPECT_LT(brightness(0), 0.05f) << "no difference: black";
+    EXPECT_GT(brightness(1), brightness(0) + 0.1f) << "1e-7 is dark but not black";
+    EXPECT_GT(brightness(2), brightness(1) + 0.3f) << "1e-4, black on the old 4/255 scale, is visible";
+    EXPECT_GT(brightness(3), 2.0f) << "1 is the brightest colour";
+}
+
+TEST(CompareHeatMap, LogarithmicLegendRunsFrom1e7To1WithATickPerDecade) {
+    const auto scale = compare::HeatMapScale::logarithmic(1e-7, 1);
+    std::vector<compare::LegendTick> ticks = compare::legend_ticks(scale);
+    ASSERT_EQ(ticks.size(), 8u);
+    for (std::size_t decade = 0; decade < ticks.size(); ++decade) {
+        EXPECT_NEAR(ticks[decade].error, std::pow(10.0, static_cast<double>(decade) - 7), 1e-15) << decade;
+        EXPECT_NEAR(ticks[decade].position, static_cast<double>(decade) / 7, 1e-12) << decade;
+    }
+    Image legend = compare::heat_map_legend(scale, 8, 1);
+    Image zero = flat(1, 1, {0, 0, 0});
+    auto map_colour = [&](float error) {
+        return compare::error_heat_map(zero, flat(1, 1, {error, 0, 0}), scale).at(0, 0);
+    };
+    EXPECT_NEAR(legend.at(0, 0).r, map_colour(1e-7f).r, 1e-3) << "the bar starts at 1e-7's colour, not black";
+    EXPECT_NEAR(legend.at(0, 0).b, map_colour(1e-7f).b, 1e-3);
+    EXPECT_NEAR(legend.at(7, 0).g, map_colour(1.0f).g, 1e-6) << "and ends at 1's";
+}
+
+TEST(CompareClusters, TwoSeparateBlobsGiveTwoBoxesWithTheirBoundsLargestFirst) {
+    Image a = flat(40, 30, {0.5f, 0.5f, 0.5f});
+    Image b = a;
+    for (int y = 3; y <= 5; ++y)
+        for (int x = 2; x <= 6; ++x)
+            b.at(x, y).r = 0.6f;  // 15 pixels
+    for (int y = 20; y <= 27; ++y)
+        for (int x = 30; x <= 33; ++x)
+            b.at(x, y).g = 0.6f;  // 32 pixels
+    b.at(32, 25).g = 0.9f;        // the worst pixel
+    b.at(20, 12).b = 0.501f;      // under the threshold: in no cluster
+    auto clusters = compare::failing_clusters(a, b, 0.01, 4, 20);
+    ASSERT_EQ(clusters.size(), 2u);
+    EXPECT_EQ(clusters[0].pixels, 32);
+    EXPECT_EQ(clusters[0].left, 30);
+    EXPECT_EQ(clusters[0].top, 20);
+    EXPECT_EQ(clusters[0].right, 33);
+    EXPECT_EQ(clusters[0].bottom, 27);
+    EXPECT_EQ(clusters[0].worst.x, 32);
+    EXPECT_EQ(clusters[0].worst.y, 25);
+    EXPECT_NEAR(clusters[0].worst.error, 0.4, 1e-6);
+    EXPECT_EQ(clusters[1].pixels, 15);
+    EXPECT_EQ(clusters[1].left, 2);
+    EXPECT_EQ(clusters[1].top, 3);
+    EXPECT_EQ(clusters[1].right, 6);
+    EXPECT_EQ(clusters[1].bottom, 5);
+    EXPECT_EQ(clusters[1].worst.x, 2) << "ties: the top-left pixel";
+    EXPECT_EQ(clusters[1].worst.y, 3);
+    auto again = compare::failing_clusters(a, b, 0.01, 4, 20);
+    ASSERT_EQ(again.size(), clusters.size());
+    for (std::size_t i = 0; i < again.size(); ++i) {
+        EXPECT_EQ(again[i].left, clusters[i].left);
+        EXPECT_EQ(again[i].top, clusters[i].top);
+        EXPECT_EQ(again[i].pixels, clusters[i].pixels);
+    }
+}
+
+TEST(CompareClusters, PixelsWithinTheGapMergeAndOnlyTheLargestClustersAreKept) {
+    Image a = flat(60, 10, {0, 0, 0});
+    Image b = a;
+    b.at(10, 5).r = 1;  // three pixels between it and the next
+    b.at(14, 5).r = 1;
+    b.at(40, 2).r = 1;  // alone, far away
+    EXPECT_EQ(compare::failing_clusters(a, b, 0.5, 3, 20).size(), 2u) << "gap 3: 10 and 14 are one cluster";
+    auto apart = compare::failing_clusters(a, b, 0.5, 2, 20);
+    ASSERT_EQ(apart.size(), 3u) << "gap 2: three clusters";
+    EXPECT_EQ(apart[0].left, 40) << "equal sizes: the top box first";
+    auto capped = compare::failing_clusters(a, b, 0.5, 3, 1);
+    ASSERT_EQ(capped.size(), 1u);
+    EXPECT_EQ(capped[0].pixels, 2);
+    EXPECT_EQ(capped[0].left, 10);
+    EXPECT_EQ(capped[0].right, 14);
 }
 
 TEST(CompareQuantized, MatchesWhatAnEightBitPngStores) {

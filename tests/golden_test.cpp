@@ -49,8 +49,9 @@ TEST_P(Golden, ReferenceRenderMatchesItsGoldenImage) {
         fs::path folder = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "golden";
         fs::create_directories(folder);
         twinray::write_image(actual, folder / (name + "_actual.png"));
-        twinray::write_image(twinray::compare::error_heat_map(expected, actual, 4.0 / 255.0),
-                             folder / (name + "_error.png"));
+        twinray::write_image(
+            twinray::compare::error_heat_map(expected, actual, twinray::compare::HeatMapScale::linear(4.0 / 255.0)),
+            folder / (name + "_error.png"));
         ADD_FAILURE() << name << ": the reference render differs from " << golden << " (" << metrics.fail_pixels
                       << " pixels, max " << metrics.max_error * 255.0 << "/255 at " << metrics.max_x << ","
                       << metrics.max_y << "). Actual image and error map: " << folder.string() << "/" << name

@@ -348,7 +348,9 @@ TEST_P(PovJudge, PovRayRendersTheExportedSceneAsTheReferenceDoes) {
     if (!failures.str().empty()) {
         fs::path error_map = folder / "error_map.png";
         const int scale = std::max(2, limits.max_levels_off_object_edges);
-        twinray::write_image(twinray::compare::error_heat_map(reference, *pov, scale / 255.0), error_map);
+        twinray::write_image(
+            twinray::compare::error_heat_map(reference, *pov, twinray::compare::HeatMapScale::linear(scale / 255.0)),
+            error_map);
         ADD_FAILURE() << name << ": POV-Ray's image differs from the reference's beyond this scene's thresholds ("
                       << limits.why << "):\n"
                       << failures.str() << "  error map (inferno, brightest at " << scale

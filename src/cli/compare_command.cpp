@@ -52,7 +52,7 @@ int run_compare(const CompareArguments& arguments) {
     if (!arguments.map_path.empty()) {
         double scale = arguments.map_scale > 0 ? arguments.map_scale : arguments.thresholds.fail;
         try {
-            write_image(compare::error_heat_map(a, b, scale), arguments.map_path);
+            write_image(compare::error_heat_map(a, b, compare::HeatMapScale::linear(scale)), arguments.map_path);
         } catch (const ImageFileError& error) {
             std::cerr << "twinray compare: " << error.what() << "\n";
             return exit_output_error;

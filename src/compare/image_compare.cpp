@@ -9,23 +9,11 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 namespace twinray::compare {
 namespace {
-
-void require_same_size(const Image& a, const Image& b) {
-    if (a.width() != b.width() || a.height() != b.height()) {
-        throw ImageReadError("the images differ in size: " + std::to_string(a.width()) + " x " +
-                             std::to_string(a.height()) + " and " + std::to_string(b.width()) + " x " +
-                             std::to_string(b.height()));
-    }
-}
-
-double largest_channel_difference(const Rgb& a, const Rgb& b) {
-    return std::max({std::fabs(static_cast<double>(a.r) - b.r), std::fabs(static_cast<double>(a.g) - b.g),
-                     std::fabs(static_cast<double>(a.b) - b.b)});
-}
 
 // Sums and extremes over the pixels, each channel judged as idiff (OpenImageIO's ImageBufAlgo::compare)
 // judges it, so that `twinray compare` prints what idiff prints for the same two images.
@@ -120,6 +108,23 @@ private:
     bool pixel_warned_ = false, pixel_failed_ = false;
 };
 
+// OpenImageIO's inferno gives linear colours; PNGs here store values as they are (no gamma), so the colours
+// are sRGB-encoded to show the colour map as published: linear ones crush its dark end, a decade of the
+// logarithmic map, towards black.
+Image inferno_for_display(const Image& levels) {
+    Image colours = inferno_colour_map(levels);
+    auto encode = [](float linear) {
+        return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+    };
+    for (int y = 0; y < colours.height(); ++y) {
+        for (int x = 0; x < colours.width(); ++x) {
+            Rgb& colour = colours.at(x, y);
+            colour = {encode(colour.r), encode(colour.g), encode(colour.b)};
+        }
+    }
+    return colours;
+}
+
 std::string lowercase(std::string text) {
     std::transform(text.begin(), text.end(), text.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -127,6 +132,19 @@ std::string lowercase(std::string text) {
 }
 
 }  // namespace
+
+void require_same_size(const Image& a, const Image& b) {
+    if (a.width() != b.width() || a.height() != b.height()) {
+        throw ImageReadError("the images differ in size: " + std::to_string(a.width()) + " x " +
+                             std::to_string(a.height()) + " and " + std::to_string(b.width()) + " x " +
+                             std::to_string(b.height()));
+    }
+}
+
+double largest_channel_difference(const Rgb& a, const Rgb& b) {
+    return std::max({std::fabs(static_cast<double>(a.r) - b.r), std::fabs(static_cast<double>(a.g) - b.g),
+                     std::fabs(static_cast<double>(a.b) - b.b)});
+}
 
 const char* to_string(Verdict verdict) {
     switch (verdict) {
@@ -178,27 +196,70 @@ std::vector<PixelError> worst_pixels(const Image& a, const Image& b, int count) 
     return all;
 }
 
-Image error_heat_map(const Image& a, const Image& b, double scale) {
+HeatMapScale HeatMapScale::linear(double brightest) {
+    return HeatMapScale(0, brightest);
+}
+
+HeatMapScale HeatMapScale::logarithmic(double darkest, double brightest) {
+    if (!(darkest > 0 && darkest < brightest)) {
+        throw std::invalid_argument("a logarithmic heat map needs 0 < darkest < brightest");
+    }
+    return HeatMapScale(darkest, brightest);
+}
+
+double HeatMapScale::level(double error) const {
+    if (error == 0) {
+        return 0;
+    }
+    // !(error < brightest) rather than error >= brightest: a NaN or infinite error is the brightest.
+    if (!(error < brightest_)) {
+        return 1;
+    }
+    if (!is_logarithmic()) {
+        return error / brightest_;
+    }
+    const double decades = std::log10(brightest_ / darkest_);
+    const double above_darkest = std::max(0.0, std::log10(error / darkest_));
+    return (1 + above_darkest) / (decades + 1);
+}
+
+Image error_heat_map(const Image& a, const Image& b, const HeatMapScale& scale) {
     require_same_size(a, b);
     Image grey(a.width(), a.height());
     for (int y = 0; y < a.height(); ++y) {
         for (int x = 0; x < a.width(); ++x) {
-            auto level = static_cast<float>(std::min(1.0, largest_channel_difference(a.at(x, y), b.at(x, y)) / scale));
+            auto level = static_cast<float>(scale.level(largest_channel_difference(a.at(x, y), b.at(x, y))));
             grey.at(x, y) = {level, level, level};
         }
     }
-    return inferno_colour_map(grey);
+    return inferno_for_display(grey);
 }
 
-Image heat_map_legend(int width, int height) {
+Image heat_map_legend(const HeatMapScale& scale, int width, int height) {
     Image grey(width, height);
-    for (int y = 0; y < height; ++y) {
-        for (int x = 0; x < width; ++x) {
-            float level = width > 1 ? static_cast<float>(x) / static_cast<float>(width - 1) : 0.0f;
+    for (int x = 0; x < width; ++x) {
+        const double position = width > 1 ? static_cast<double>(x) / (width - 1) : 0.0;
+        const double error = scale.is_logarithmic()
+                                 ? scale.darkest() * std::pow(scale.brightest() / scale.darkest(), position)
+                                 : scale.brightest() * position;
+        const auto level = static_cast<float>(scale.level(error));
+        for (int y = 0; y < height; ++y) {
             grey.at(x, y) = {level, level, level};
         }
     }
-    return inferno_colour_map(grey);
+    return inferno_for_display(grey);
+}
+
+std::vector<LegendTick> legend_ticks(const HeatMapScale& scale) {
+    if (!scale.is_logarithmic()) {
+        return {{0, 0}, {scale.brightest() / 2, 0.5}, {scale.brightest(), 1}};
+    }
+    const double decades = std::log10(scale.brightest() / scale.darkest());
+    std::vector<LegendTick> ticks;
+    for (int decade = 0; decade <= static_cast<int>(decades + 1e-9); ++decade) {
+        ticks.push_back({scale.darkest() * std::pow(10.0, decade), decade / decades});
+    }
+    return ticks;
 }
 
 Image fail_mask(const Image& reference, const Image& other, double fail) {

@@ -49,18 +49,54 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-// Refuses images of different sizes (OpenImageIO would compare the union of their windows).
+// Throws ImageReadError unless both are of one size (OpenImageIO would compare the union of their windows);
+// every comparison below refuses images of different sizes so.
+void require_same_size(const Image& a, const Image& b);
+
 Metrics measure(const Image& a, const Image& b, const Thresholds& thresholds);
 Verdict judge(const Metrics& metrics, const Thresholds& thresholds);
 
 // The `count` pixels with the largest difference, largest first (ties: top-left first).
 std::vector<PixelError> worst_pixels(const Image& a, const Image& b, int count);
 
-// Per pixel, the largest channel difference mapped through the "inferno" colour map with 0 black and
-// `scale` (and above) brightest: a fixed scale, so small errors do not vanish next to one outlier.
-Image error_heat_map(const Image& a, const Image& b, double scale);
-// A horizontal bar of the same colour map, 0 on the left and `scale` on the right.
-Image heat_map_legend(int width, int height);
+// A pixel's error as every map, mask and list here measures it: its largest channel difference.
+double largest_channel_difference(const Rgb& a, const Rgb& b);
+
+// How a heat map turns an error into a level of its colour map (0 black, 1 brightest). Fixed, so small
+// errors do not vanish next to one outlier.
+class HeatMapScale {
+public:
+    // 0 black, `brightest` (and above) brightest, evenly in between.
+    static HeatMapScale linear(double brightest);
+    // Decades from `darkest` to `brightest` evenly spaced, one more decade's width kept below `darkest` so
+    // that exact zero alone is black: from 1e-7 to 1, 0 → 0, 1e-7 (and any error below it) → 1/8,
+    // 1e-4 → 1/2, 1 (and above) → 1.
+    static HeatMapScale logarithmic(double darkest, double brightest);
+
+    double level(double error) const;
+    bool is_logarithmic() const { return darkest_ > 0; }
+    double darkest() const { return darkest_; }
+    double brightest() const { return brightest_; }
+
+private:
+    HeatMapScale(double darkest, double brightest) : darkest_(darkest), brightest_(brightest) {}
+    double darkest_;  // 0 for a linear scale
+    double brightest_;
+};
+
+// Per pixel, the largest channel difference through the "inferno" colour map at the scale's level, in the
+// map's published (sRGB-encoded) colours, ready to be viewed as stored.
+Image error_heat_map(const Image& a, const Image& b, const HeatMapScale& scale);
+
+// The scale's legend: a horizontal bar of `width` errors from the scale's lowest (0, or `darkest`) on the
+// left to `brightest` on the right, each coloured as the map colours it, and where to label it.
+Image heat_map_legend(const HeatMapScale& scale, int width, int height);
+struct LegendTick {
+    double error;
+    double position;  // 0 at the bar's left edge, 1 at its right
+};
+// Each decade of a logarithmic scale; 0, the middle and `brightest` of a linear one.
+std::vector<LegendTick> legend_ticks(const HeatMapScale& scale);
 // White where a pixel fails (any channel differs by more than `fail`), the reference dimmed elsewhere.
 Image fail_mask(const Image& reference, const Image& other, double fail);
 

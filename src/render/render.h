@@ -66,6 +66,9 @@ struct TraceTally {
 struct RenderResult {
     Image image;
     TraceTally tally;
+    // Wall time of the pixel loop alone: what render() spends before it (building the tracer, compiling the
+    // scene) is left out, so tracers are timed on tracing.
+    double tracing_seconds = 0;
 };
 
 int resolve_thread_count(int requested);

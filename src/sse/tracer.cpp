@@ -5,6 +5,7 @@
 #include "sse/shading.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -176,6 +177,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
     Tracer tracer(scene, precision);
     Image image(size.width, size.height);
+    const auto start = std::chrono::steady_clock::now();
     TraceTally tally = with_precision_policy(precision, [&](auto policy) {
         using P = decltype(policy);
         PacketTracer<P> packets(tracer.compiled());
@@ -209,7 +211,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
                 return tile_tally;
             });
     });
-    return {std::move(image), tally};
+    return {std::move(image), tally, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
 }
 
 FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
