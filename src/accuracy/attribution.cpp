@@ -232,6 +232,37 @@ int twin(const RayTree& from, const RayTree& to, int index) {
     return j;
 }
 
+// Whether a node's total colour is what the shading formula makes of its own local colour and its children's
+// totals: local + transmission·refracted + reflection·reflected, the transmission added to the reflection on
+// total internal reflection (no refracted child, and none left out by the depth control). Rounding aside,
+// a tree whose colours do not add up was not shaded by the model.
+bool colours_add_up(const scene::Scene& scene, const RayTree& tree, int index) {
+    const RayNode& node = node_of(tree, index);
+    if (!node.hit) {
+        return true;
+    }
+    const scene::Material& m = scene.material_of_leaf(node.leaf);
+    bool refracted = false, refracted_left_out = false;
+    Vec3d sum = node.local;
+    double size = max_abs(node.local);
+    std::vector<int> children = tree.children(index);
+    for (int child : children) {
+        refracted = refracted || node_of(tree, child).kind == RayKind::refracted;
+    }
+    for (const DroppedRay& dropped : tree.dropped) {
+        refracted_left_out = refracted_left_out || (dropped.parent == index && dropped.kind == RayKind::refracted);
+    }
+    bool total_internal = m.transmission > 0 && !refracted && !refracted_left_out;
+    for (int child : children) {
+        const RayNode& c = node_of(tree, child);
+        double coefficient =
+            c.kind == RayKind::refracted ? m.transmission : m.reflection + (total_internal ? m.transmission : 0.0);
+        sum = sum + coefficient * c.total;
+        size += coefficient * max_abs(c.total);
+    }
+    return max_abs_difference(sum, node.total) <= rounding * (1 + size);
+}
+
 // Whether one ray's two versions, hitting the same surface, stay within the band at that ray: direction and
 // origin, t across the surface, the normal, and (`with_colour`) the local colour within what those inputs
 // can move it. The ray of a light flip is held to its geometry only: the flip changes its colour.
@@ -309,6 +340,11 @@ PixelCause attribute_with(const scene::Scene& scene, const std::vector<Curvature
                           const reference::Tracer<double>& reference, const RayTree& expected, const RayTree& actual) {
     std::vector<Divergence> divergences = find_divergences(expected, actual);
     auto flip = std::find_if(divergences.begin(), divergences.end(), is_flip);
+    for (int j = 0; j < static_cast<int>(actual.nodes.size()); ++j) {
+        if (!colours_add_up(scene, actual, j)) {
+            return {Cause::unexplained, "colours that do not add up", node_of(actual, j).depth, 0, 0};
+        }
+    }
     // Every ray traced before the first flip, in both trees alike, must stay within its band: the probe's
     // thresholds are far above rounding, the bands are not.
     const int count = static_cast<int>(expected.nodes.size());

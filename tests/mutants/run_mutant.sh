@@ -18,9 +18,11 @@ if [ -z "$failed" ]; then
   tail -5 <<<"$output"
   exit 0
 fi
-# Whether the attribution found pixels no float rounding explains: the verdict class that caught it.
-unexplained="$(grep -c 'unexplained' <<<"$output")"
-echo "mutant | $mutant | caught by $count ($unexplained unexplained-pixel reports) | $(head -3 <<<"$failed" | tr '\n' ' ')"
+# The attribution's verdict (accuracy/attribution.h): how many of the scenes' differing pixels no float
+# rounding explains, summed over the "[ measured ] scene ... unexplained N" lines.
+unexplained="$(awk '/^\[ measured \]/ && / drift / { for (i = 1; i < NF; i++) if ($i == "unexplained") sum += $(i + 1) }
+                    END { print sum + 0 }' <<<"$output")"
+echo "mutant | $mutant | caught by $count, $unexplained unexplained pixels | $(head -3 <<<"$failed" | tr '\n' ' ')"
 # The first failure's message: what the suite saw.
 grep -m 1 -A 3 'Failure$' <<<"$output"
 exit 0
