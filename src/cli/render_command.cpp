@@ -66,6 +66,7 @@ struct RenderArguments {
     std::string tracer = default_tracer;
     int threads = 0;
     sse::Precision precision;
+    sse::Accel accel = sse::Accel::automatic;
 };
 
 // Refuse an output we could not write before spending time on the render.
@@ -126,6 +127,10 @@ int run_render(const RenderArguments& arguments) {
         std::cerr << "twinray render: " << problem << "\n";
         return exit_usage;
     }
+    if (std::string problem = accel_problem(arguments.tracer, arguments.accel); !problem.empty()) {
+        std::cerr << "twinray render: " << problem << "\n";
+        return exit_usage;
+    }
     scene::Scene scene;
     try {
         scene = scene::load_scene(arguments.scene_path);
@@ -160,7 +165,7 @@ int run_render(const RenderArguments& arguments) {
     };
     std::optional<RenderResult> rendered;
     try {
-        rendered.emplace(render_with(arguments.tracer, scene, options, arguments.precision));
+        rendered.emplace(render_with(arguments.tracer, scene, options, arguments.precision, arguments.accel));
         // A Ctrl-C after the last item but before the write still means "stop": nothing is written.
         if (interrupted.load(std::memory_order_relaxed)) {
             throw RenderCancelled();
@@ -184,6 +189,7 @@ int run_render(const RenderArguments& arguments) {
                 options.threads == 1 ? "" : "s");
     if (arguments.tracer == "sse") {
         std::printf("precision:   %s\n", sse::precision_name(arguments.precision).c_str());
+        std::printf("accel:       %s\n", sse::accel_name(arguments.accel).c_str());
     }
     std::printf("resolution:  %d x %d\n", result.image.width(), result.image.height());
     std::printf("rays traced: %llu\n", static_cast<unsigned long long>(result.tally.rays));
@@ -219,6 +225,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
                      "Worker threads (default: all cores); the image is identical for any count")
         ->check(CLI::Range(1, 1024));
     add_precision_options(*command, arguments->precision);
+    add_accel_option(*command, arguments->accel);
     command->callback([arguments, &run] { run = [arguments] { return run_render(*arguments); }; });
 }
 

@@ -13,26 +13,25 @@ namespace {
 
 struct TracerEntry {
     std::string description;
-    std::function<RenderResult(const scene::Scene&, const RenderOptions&, const sse::Precision&)> render;
+    std::function<RenderResult(const scene::Scene&, const RenderOptions&, const sse::Precision&, sse::Accel)> render;
 };
 
 const std::map<std::string, TracerEntry>& registry() {
     static const std::map<std::string, TracerEntry> tracers = {
         {"reference",
          {"scalar double-precision reference (the oracle)",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&) {
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&, sse::Accel) {
               return reference::render<double>(scene, options);
           }}},
         {"reference-float",
          {"the reference's code in single precision",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&) {
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&, sse::Accel) {
               return reference::render<float>(scene, options);
           }}},
         {"sse",
          {"single-precision SSE4.1 tracer, the fast one",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision& precision) {
-              return sse::render(scene, options, precision);
-          }}},
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision& precision,
+             sse::Accel accel) { return sse::render(scene, options, precision, accel); }}},
     };
     return tracers;
 }
@@ -62,7 +61,7 @@ std::string tracer_unavailable_reason(const std::string& name) {
 }
 
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
-                         const sse::Precision& precision) {
+                         const sse::Precision& precision, sse::Accel accel) {
     auto entry = registry().find(tracer_name);
     if (entry == registry().end()) {
         throw std::invalid_argument("unknown tracer \"" + tracer_name + "\"");
@@ -70,7 +69,10 @@ RenderResult render_with(const std::string& tracer_name, const scene::Scene& sce
     if (std::string problem = precision_problem(tracer_name, precision); !problem.empty()) {
         throw std::invalid_argument(problem);
     }
-    return entry->second.render(scene, options, precision);
+    if (std::string problem = accel_problem(tracer_name, accel); !problem.empty()) {
+        throw std::invalid_argument(problem);
+    }
+    return entry->second.render(scene, options, precision, accel);
 }
 
 void add_precision_options(CLI::App& command, sse::Precision& precision) {
@@ -104,6 +106,26 @@ std::string precision_problem(const std::string& tracer_name, const sse::Precisi
     if (!sse::precision_is_built(precision)) {
         return "the SSE tracer is not built for the knobs " + sse::precision_name(precision) +
                "; built: " + sse::built_precisions();
+    }
+    return "";
+}
+
+void add_accel_option(CLI::App& command, sse::Accel& accel) {
+    command
+        .add_option_function<std::string>(
+            "--accel",
+            [&accel](const std::string& name) {
+                accel = name == "none" ? sse::Accel::none : name == "bvh" ? sse::Accel::bvh : sse::Accel::automatic;
+            },
+            "sse: auto (a BVH above " + std::to_string(sse::bvh_crossover) +
+                " bounded objects, the default), none (every ray tests every primitive) or bvh; the image is "
+                "the same")
+        ->check(CLI::IsMember({"auto", "none", "bvh"}));
+}
+
+std::string accel_problem(const std::string& tracer_name, sse::Accel accel) {
+    if (accel != sse::Accel::automatic && tracer_name != "sse") {
+        return "--accel " + sse::accel_name(accel) + " applies to --tracer sse only";
     }
     return "";
 }

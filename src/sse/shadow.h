@@ -32,16 +32,26 @@ public:
             enter_between = span.valid & (span.enter > zero) & (span.enter < distance);
             exit_between = span.valid & (span.exit > zero) & (span.exit < distance);
         };
+        CsgCandidates csg;
         if (!scene_.any_transparency) {
-            for_each_span<P>(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float) {
+            auto block = [&](const Span4& span, std::int32_t, float) {
                 if (none(open)) {
                     return;
                 }
                 vbool4 enter_between, exit_between;
                 crossings_between(span, enter_between, exit_between);
                 open = open & !(enter_between | exit_between);
-            });
+            };
+            for_each_span<P>(scene_.flat(), rays, block);
+            if (!scene_.bvh.empty() && any(open)) {
+                csg.collect();
+                for_each_leaf_met(scene_.bvh, BvhRays(rays), open, distance, [&](const BvhNode& leaf) {
+                    for_each_span_in_leaf<P>(scene_, leaf, rays, csg, block);
+                });
+            }
         } else {
+            // Transmissions multiply in the primitives' order, as brute force, so that the product is the same
+            // bit for bit: every primitive, BVH or not.
             for_each_span<P>(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float transmission) {
                 vbool4 enter_between, exit_between;
                 crossings_between(span, enter_between, exit_between);
@@ -57,10 +67,10 @@ public:
         }
         alignas(16) float product[4];
         transmittance.store(product);
-        for (const CsgObject& object : scene_.csg_objects) {
+        csg.for_each(scene_, [&](const CsgObject& object) {
             int met = lanes_meeting_bound<P>(object, rays, distance) & movemask(open);
             if (met == 0) {
-                continue;
+                return;
             }
             CsgEvaluation<P> evaluation(object, rays);
             alignas(16) float limit[4];
@@ -79,7 +89,7 @@ public:
                     }
                 }
             }
-        }
+        });
         return vfloat4::load(product);
     }
 

@@ -96,8 +96,17 @@ std::string precision_name(const Precision& precision) {
     return name.empty() ? "exact" : name;
 }
 
-Tracer::Tracer(const scene::Scene& scene, const Precision& precision)
-    : scene_(std::make_unique<CompiledScene>(compile(scene))), precision_(precision) {
+std::string accel_name(Accel accel) {
+    switch (accel) {
+        case Accel::none: return "none";
+        case Accel::bvh: return "bvh";
+        case Accel::automatic: break;
+    }
+    return "auto";
+}
+
+Tracer::Tracer(const scene::Scene& scene, const Precision& precision, Accel accel)
+    : scene_(std::make_unique<CompiledScene>(compile(scene, accel))), precision_(precision) {
     with_precision_policy(precision, [](auto) {});  // refuses a combination that is not built
 }
 
@@ -163,9 +172,9 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     return render(scene, options, {});
 }
 
-RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
+RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision, Accel accel) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer tracer(scene, precision);
+    Tracer tracer(scene, precision, accel);
     Image image(size.width, size.height);
     TraceTally tally = with_precision_policy(precision, [&](auto policy) {
         using P = decltype(policy);
@@ -203,9 +212,10 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
     return {std::move(image), tally};
 }
 
-FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
+FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision,
+                            Accel accel) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer tracer(scene, precision);
+    Tracer tracer(scene, precision, accel);
     std::uint64_t hits = with_precision_policy(precision, [&](auto policy) {
         using P = decltype(policy);
         PacketTracer<P> packets(tracer.compiled());

@@ -12,6 +12,7 @@
 #include "scene/scene.h"
 #include "sse/vec3.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -58,6 +59,15 @@ std::string built_precisions();
 // "exact", or the knobs joined by '+' ("rcp+rsqrt+ftz").
 std::string precision_name(const Precision& precision);
 
+// Whether the tracer finds hits through a BVH (docs/sse-tracer.md) or tests every primitive: the image is
+// the same bit for bit, only the time differs. `automatic` builds one where the scene has more than
+// bvh_crossover bounded primitives and CSG objects, the count from which it measured faster
+// (docs/performance.md).
+enum class Accel { automatic, none, bvh };
+constexpr std::size_t bvh_crossover = 64;
+// "auto", "none" or "bvh", as --accel spells them.
+std::string accel_name(Accel accel);
+
 // The point the tracer compiles a scene relative to, in double (re-basing, docs/numerics.md): the eye
 // where that makes the scene's coordinates smaller than the world's origin does (then every number the
 // float kernels see is a distance from the camera), else the world's origin. Results are translated back.
@@ -67,7 +77,7 @@ struct CompiledScene;
 
 class Tracer {
 public:
-    explicit Tracer(const scene::Scene& scene, const Precision& precision = {});
+    explicit Tracer(const scene::Scene& scene, const Precision& precision = {}, Accel accel = Accel::automatic);
     ~Tracer();
     Tracer(const Tracer&) = delete;
     Tracer& operator=(const Tracer&) = delete;
@@ -91,7 +101,8 @@ private:
 };
 
 RenderResult render(const scene::Scene& scene, const RenderOptions& options);
-RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision);
+RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision,
+                    Accel accel = Accel::automatic);
 
 // Primary rays only: every pixel's nearest hit (the same packets, tile culling and intersection as
 // render, with the normal), no shading. The first-hit speed to hold against other ray casters (Embree).
@@ -99,6 +110,7 @@ struct FirstHits {
     std::uint64_t rays = 0;
     std::uint64_t hits = 0;
 };
-FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision = {});
+FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision = {},
+                            Accel accel = Accel::automatic);
 
 }  // namespace twinray::sse
