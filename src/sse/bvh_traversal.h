@@ -141,7 +141,7 @@ private:
     bool overflowed_ = false;
 };
 
-// Calls visit(span, id, transmission) for every primitive of a BVH leaf that some ray of the packet meets
+// Calls visit(span, id, transmission, list) for every primitive of a BVH leaf that some ray of the packet meets
 // (as for_each_span), and adds the leaf's CSG objects to `csg`.
 template <typename P, typename Visit>
 void for_each_span_in_leaf(const CompiledScene& scene, const BvhNode& leaf, const RayPacket& rays, CsgCandidates& csg,
@@ -155,7 +155,7 @@ void for_each_span_in_leaf(const CompiledScene& scene, const BvhNode& leaf, cons
         scene.primitives.visit_list(item.list, [&](const auto& list) {
             Span4 span = span_of<P>(list.items[item.index], rays);
             if (any(span.valid)) {
-                visit(span, list.ids[item.index], list.transmission[item.index]);
+                visit(span, list.ids[item.index], list.transmission[item.index], item.list);
             }
         });
     }

@@ -36,18 +36,20 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
     nearest.tag = select(nearer, tag, nearest.tag);
 }
 
-// Calls visit(span, id, transmission) for every primitive of every type present that some ray meets.
-// Primitives that no ray of the packet meets are skipped before any use of their span: in a coherent
-// packet that is most of them.
+// Calls visit(span, id, transmission, list) for every primitive of every type present that some ray meets
+// (`list`: its type's position in scene::PrimitiveTypes). Primitives that no ray of the packet meets are
+// skipped before any use of their span: in a coherent packet that is most of them.
 template <typename P, typename Visit>
 void for_each_span(const PrimitiveLists& lists, const RayPacket& rays, Visit&& visit) {
+    std::uint32_t list_index = 0;
     lists.for_each([&](const auto& list) {
         for (std::size_t i = 0; i < list.items.size(); ++i) {
             Span4 span = span_of<P>(list.items[i], rays);
             if (any(span.valid)) {
-                visit(span, list.ids[i], list.transmission[i]);
+                visit(span, list.ids[i], list.transmission[i], list_index);
             }
         }
+        ++list_index;
     });
 }
 
@@ -58,7 +60,7 @@ class CsgEvaluation {
 public:
     CsgEvaluation(const CsgObject& object, const RayPacket& rays) : object_(object) {
         std::fill(valid_, valid_ + object.slot_leaf.size(), 0);  // leaves no ray meets are not visited
-        for_each_span<P>(object.leaves, rays, [&](const Span4& span, std::int32_t slot, float) {
+        for_each_span<P>(object.leaves, rays, [&](const Span4& span, std::int32_t slot, float, std::uint32_t) {
             span.enter.store(enter_[slot]);
             span.exit.store(exit_[slot]);
             span.enter_face.store(enter_face_[slot]);
@@ -137,7 +139,9 @@ public:
             rays.template compute_inverse_direction<P>();
         }
         Nearest4 nearest;
-        auto keep = [&](const Span4& span, std::int32_t leaf, float) { keep_nearest(nearest, span, leaf); };
+        auto keep = [&](const Span4& span, std::int32_t leaf, float, std::uint32_t) {
+            keep_nearest(nearest, span, leaf);
+        };
         for_each_span<P>(candidates, rays, keep);
         CsgCandidates csg;
         if (!scene_.bvh.empty()) {
