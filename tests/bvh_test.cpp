@@ -313,3 +313,31 @@ TEST_F(Bvh, AutomaticBuildsOneOnlyAboveTheCrossover) {
 }
 
 }  // namespace
+
+// The build's cost and size at each scale (docs/performance.md, "The BVH"): the time compile() takes with
+// the BVH over without it, and the bytes of nodes and leaf items per bounded object, at most 64 (issue 13).
+TEST_F(Bvh, BuildTimeAndBytesPerPrimitiveAtEachScale) {
+    auto seconds_to_compile = [](const Scene& scene, Accel accel) {
+        double best = 1e30;
+        for (int run = 0; run < 3; ++run) {
+            auto start = std::chrono::steady_clock::now();
+            twinray::sse::CompiledScene compiled = twinray::sse::compile(scene, accel);
+            best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        }
+        return best;
+    };
+    for (const char* family : {"field", "fractal"}) {
+        for (int size : {100, 1000, 10000, 100000}) {
+            Scene scene = generated(family, size);
+            twinray::sse::CompiledScene compiled = twinray::sse::compile(scene, Accel::bvh);
+            std::size_t items = compiled.bvh.items.size();
+            double bytes_per_item =
+                static_cast<double>(twinray::sse::bvh_bytes(compiled.bvh)) / static_cast<double>(items);
+            double build = seconds_to_compile(scene, Accel::bvh) - seconds_to_compile(scene, Accel::none);
+            std::printf("%-8s %7zu bounded: %7zu nodes, %5.1f bytes each, build %8.3f ms (%.2f M/s)\n", family, items,
+                        compiled.bvh.nodes.size(), bytes_per_item, build * 1e3,
+                        static_cast<double>(items) / build / 1e6);
+            EXPECT_LE(bytes_per_item, 64.0) << family << " " << size;
+        }
+    }
+}

@@ -11,7 +11,7 @@ namespace {
 constexpr int bin_count = 16;
 constexpr std::uint32_t max_leaf_items = 4;
 // The SAH's price of visiting a node, in primitive tests.
-constexpr double node_cost = 1.0;
+constexpr double node_cost = 2.0;
 constexpr double infinity_d = std::numeric_limits<double>::infinity();
 
 scene::Bounds empty_bounds() {
