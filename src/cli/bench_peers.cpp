@@ -52,7 +52,8 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
                            cell("%.1f", (one - start_up) / sse_seconds[0])});
 }
 
-void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Report& report) {
+void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, sse::Accel accel,
+                      Report& report) {
     RenderOptions options;
     options.width = width;
     options.threads = 1;
@@ -60,10 +61,10 @@ void bench_first_hits(const std::string& name, const scene::Scene& scene, int wi
     sse::FirstHits hits;
     for (int run = 0; run < runs; ++run) {
         auto start = std::chrono::steady_clock::now();
-        hits = sse::cast_primary_rays(scene, options);
+        hits = sse::cast_primary_rays(scene, options, {}, accel);
         exact.push_back(static_cast<double>(hits.rays) / seconds_since(start) / 1e6);
         start = std::chrono::steady_clock::now();
-        sse::FirstHits fast_hits = sse::cast_primary_rays(scene, options, all_fast_knobs());
+        sse::FirstHits fast_hits = sse::cast_primary_rays(scene, options, all_fast_knobs(), accel);
         fast.push_back(static_cast<double>(fast_hits.rays) / seconds_since(start) / 1e6);
     }
     std::vector<std::string> row = {name, std::to_string(hits.rays), cell("%.2f", median(exact)),
@@ -118,7 +119,8 @@ void bench_scaling(const BenchArguments& arguments, int all_threads, Report& rep
         scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
         std::vector<std::string> row = {std::to_string(count),
                                         std::to_string(size.width) + "x" + std::to_string(size.height)};
-        for (const Timings& timing : time_renders(configurations, scene, width, arguments.runs, nullptr)) {
+        for (const Timings& timing :
+             time_renders(configurations, scene, width, arguments.runs, nullptr, arguments.accel)) {
             row.push_back(cell("%.1f", 1e3 / median(timing.mrays)));
         }
         RenderOptions options;
@@ -127,7 +129,7 @@ void bench_scaling(const BenchArguments& arguments, int all_threads, Report& rep
         std::vector<double> first_hit;
         for (int run = 0; run < arguments.runs; ++run) {
             auto start = std::chrono::steady_clock::now();
-            sse::FirstHits hits = sse::cast_primary_rays(scene, options);
+            sse::FirstHits hits = sse::cast_primary_rays(scene, options, {}, arguments.accel);
             first_hit.push_back(seconds_since(start) * 1e9 / static_cast<double>(hits.rays));
         }
         row.push_back(cell("%.1f", median(first_hit)));

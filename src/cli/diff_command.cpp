@@ -33,6 +33,7 @@ struct DiffArguments {
     int width = 0;
     double map_scale = 4.0 / 255.0;
     bool with_povray = false;
+    sse::Accel accel = sse::Accel::automatic;
 };
 
 // POV-Ray's render of the scene against the reference's, both as 8-bit PNGs store them.
@@ -59,11 +60,12 @@ struct SceneReport {
     std::optional<PovrayColumn> povray;
 };
 
-TimedRender timed_render(const std::string& tracer, const scene::Scene& scene, int width) {
+TimedRender timed_render(const std::string& tracer, const scene::Scene& scene, int width,
+                         sse::Accel accel = sse::Accel::automatic) {
     RenderOptions options;
     options.width = width;
     auto start = std::chrono::steady_clock::now();
-    RenderResult result = render_with(tracer, scene, options);
+    RenderResult result = render_with(tracer, scene, options, {}, accel);
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return {compare::clamped(result.image), seconds};
 }
@@ -246,7 +248,7 @@ int run_diff(const DiffArguments& arguments) {
             report.scene_path = path;
             report.tolerances = manifest.for_scene(report.name);
             TimedRender reference = timed_render("reference", scene, arguments.width);
-            TimedRender sse = timed_render("sse", scene, arguments.width);
+            TimedRender sse = timed_render("sse", scene, arguments.width, arguments.accel);
             report.reference_seconds = reference.seconds;
             report.sse_seconds = sse.seconds;
             report.width = reference.image.width();
@@ -318,6 +320,7 @@ void add_diff_command(CLI::App& app, std::function<int()>& run) {
     command->add_flag(
         "--pov", arguments->with_povray,
         "Also render each scene with POV-Ray 3.7 (twinray pov) and show its image and error map against the reference");
+    add_accel_option(*command, arguments->accel);
     command->callback([arguments, &run] { run = [arguments] { return run_diff(*arguments); }; });
 }
 

@@ -69,9 +69,13 @@ public:
         out.leaves.resize(scene_.leaf_paths.size());
         std::vector<BvhInput> bounded;
         std::vector<BvhItem> unbounded;
+        // What the choice of a BVH weighs: a CSG object counts as its primitives, since brute force tests its
+        // bound for every packet and evaluates it wherever met.
+        std::size_t bounded_leaves = 0;
         for (const scene::Object& object : scene_.objects) {
             BvhItem item;
             scene::Bounds bounds;
+            std::size_t leaves = 1;
             if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
                 CsgObject compiled;
                 add_csg_node(compiled, *csg, out);
@@ -79,6 +83,7 @@ public:
                 compiled.bound = make_shape(bound);
                 item = {csg_list, static_cast<std::uint32_t>(out.csg_objects.size())};
                 bounds = {bound.min, bound.max};
+                leaves = compiled.slot_leaf.size();
                 out.csg_objects.push_back(std::move(compiled));
             } else {
                 item = add_primitive(out.primitives, object, object.leaf, transmission_of(object), out.leaves);
@@ -86,11 +91,12 @@ public:
             }
             if (is_finite(bounds)) {
                 bounded.push_back({bounds, item});
+                bounded_leaves += leaves;
             } else {
                 unbounded.push_back(item);
             }
         }
-        if (accel_ == Accel::bvh || (accel_ == Accel::automatic && bounded.size() > bvh_crossover)) {
+        if (accel_ == Accel::bvh || (accel_ == Accel::automatic && bounded_leaves > bvh_crossover)) {
             add_bvh(out, bounded, unbounded);
         }
         for (const scene::Light& light : scene_.lights) {

@@ -192,8 +192,8 @@ struct CompiledScene {
     const PrimitiveLists& flat() const { return bvh.empty() ? primitives : unbounded; }
 };
 
-// `accel`: automatic builds a BVH where the scene has more bounded primitives and CSG objects than
-// bvh_crossover (docs/performance.md).
+// `accel`: automatic builds a BVH where the scene has more than bvh_crossover primitives in bounded objects
+// (tracer.h).
 CompiledScene compile(const scene::Scene& scene, Accel accel = Accel::automatic);
 
 }  // namespace twinray::sse

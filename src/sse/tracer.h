@@ -61,8 +61,8 @@ std::string precision_name(const Precision& precision);
 
 // Whether the tracer finds hits through a BVH (docs/sse-tracer.md) or tests every primitive: the image is
 // the same bit for bit, only the time differs. `automatic` builds one where the scene has more than
-// bvh_crossover bounded primitives and CSG objects, the count from which it measured faster
-// (docs/performance.md).
+// bvh_crossover primitives in bounded objects (a CSG object counts as its primitives), the count from which
+// it measured faster (docs/performance.md, "The BVH").
 enum class Accel { automatic, none, bvh };
 constexpr std::size_t bvh_crossover = 64;
 // "auto", "none" or "bvh", as --accel spells them.
