@@ -5,6 +5,7 @@
 // every time it is built, and no deeper than its traversal stack. Built with -msse4.1: it reads the compiled
 // scene's node array.
 #include "cli/generate_scene.h"
+#include "reference/tracer.h"
 #include "render/render.h"
 #include "scene/loader.h"
 #include "scene/portable_random.h"
@@ -24,11 +25,11 @@
 
 namespace {
 
+using twinray::Accel;
 using twinray::RenderOptions;
 using twinray::RenderResult;
 using twinray::SplitMix64;
 using twinray::scene::Scene;
-using twinray::sse::Accel;
 
 Scene generated(const std::string& family, int size) {
     std::string text;
@@ -340,6 +341,57 @@ TEST_F(Bvh, BuildTimeAndBytesPerPrimitiveAtEachScale) {
                 family, items, compiled.bvh.nodes.size(), bytes_per_item, without * 1e3, build * 1e3,
                 static_cast<double>(items) / build / 1e6);
             EXPECT_LE(bytes_per_item, 64.0) << family << " " << size;
+        }
+    }
+}
+
+// The reference's own BVH (reference/bvh.h): the same images bit for bit, in double and in float, and
+// the same hit, t, leaf and colour for random rays, as the reference testing every object.
+TEST(ReferenceBvh, ImagesAreBitIdenticalWithAndWithoutIt) {
+    std::vector<std::pair<std::string, Scene>> scenes = hard_scenes();
+    scenes.emplace_back("csg", generated("csg", 1000));
+    scenes.emplace_back("lattice", generated("lattice", 1000));
+    for (auto& [name, scene] : scenes) {
+        RenderOptions options;
+        options.threads = 2;
+        options.width = 32;
+        options.height = 24;
+        auto start = std::chrono::steady_clock::now();
+        RenderResult brute = twinray::reference::render<double>(scene, options, Accel::none);
+        double brute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        start = std::chrono::steady_clock::now();
+        RenderResult bvh = twinray::reference::render<double>(scene, options, Accel::bvh);
+        double bvh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        EXPECT_TRUE(same_bits(brute, bvh)) << name;
+        EXPECT_EQ(brute.tally.rays, bvh.tally.rays) << name;
+        EXPECT_TRUE(same_bits(twinray::reference::render<float>(scene, options, Accel::none),
+                              twinray::reference::render<float>(scene, options, Accel::bvh)))
+            << name << " (float)";
+        std::printf("%-24s %7llu rays  reference<double> brute force %.3f s  bvh %.3f s\n", name.c_str(),
+                    static_cast<unsigned long long>(bvh.tally.rays), brute_seconds, bvh_seconds);
+    }
+}
+
+TEST(ReferenceBvh, EveryRayFindsTheSameNearestHitAsWithoutIt) {
+    SplitMix64 random(13);
+    for (const auto& [name, scene] : hard_scenes()) {
+        twinray::reference::Tracer<double> brute(scene, Accel::none);
+        twinray::reference::Tracer<double> bvh(scene, Accel::bvh);
+        for (int i = 0; i < 1000; ++i) {
+            twinray::Vec3d origin(random.uniform(-12, 12), random.uniform(-12, 12), random.uniform(-12, 25));
+            twinray::Vec3d direction(random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-1, 1));
+            twinray::reference::Ray<double> ray{
+                origin, (1.0 / std::sqrt(twinray::math::dot(direction, direction))) * direction};
+            auto a = brute.intersect(ray);
+            auto b = bvh.intersect(ray);
+            ASSERT_EQ(a.has_value(), b.has_value()) << name << " ray " << i;
+            if (a) {
+                EXPECT_EQ(a->leaf, b->leaf) << name << " ray " << i;
+                EXPECT_EQ(std::memcmp(&a->t, &b->t, sizeof(double)), 0) << name << " ray " << i;
+            }
+            twinray::Vec3d ca = brute.trace(ray, 1);
+            twinray::Vec3d cb = bvh.trace(ray, 1);
+            EXPECT_EQ(std::memcmp(&ca, &cb, sizeof(ca)), 0) << name << " ray " << i;
         }
     }
 }

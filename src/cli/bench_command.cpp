@@ -32,7 +32,7 @@ double median(std::vector<double> values) {
 }
 
 std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene,
-                                  int width, int runs, std::vector<Image>* last_images, sse::Accel accel) {
+                                  int width, int runs, std::vector<Image>* last_images, Accel accel) {
     std::vector<Timings> timings(configurations.size());
     if (last_images != nullptr) {
         last_images->assign(configurations.size(), Image(1, 1));
@@ -44,8 +44,7 @@ std::vector<Timings> time_renders(const std::vector<Configuration>& configuratio
             options.width = width;
             options.threads = configuration.threads;
             auto start = std::chrono::steady_clock::now();
-            RenderResult result = render_with(configuration.tracer, scene, options, configuration.precision,
-                                              configuration.tracer == "sse" ? accel : sse::Accel::automatic);
+            RenderResult result = render_with(configuration.tracer, scene, options, configuration.precision, accel);
             double seconds = seconds_since(start);
             timings[i].seconds.push_back(seconds);
             timings[i].mrays.push_back(static_cast<double>(result.tally.rays) / seconds / 1e6);
@@ -85,7 +84,7 @@ std::vector<Configuration> trade_configurations(int all_threads) {
 
 accuracy::RayAccuracy ray_accuracy(const Configuration& configuration, const scene::Scene& scene,
                                    const std::vector<std::optional<accuracy::FirstHit>>& expected, int width,
-                                   int height, sse::Accel accel) {
+                                   int height, Accel accel) {
     if (configuration.tracer == "reference") {
         reference::Tracer<double> tracer(scene);
         return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);

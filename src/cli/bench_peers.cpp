@@ -52,7 +52,7 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
                            cell("%.1f", (one - start_up) / sse_seconds[0])});
 }
 
-void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, sse::Accel accel,
+void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Accel accel,
                       Report& report) {
     RenderOptions options;
     options.width = width;

@@ -24,7 +24,7 @@ struct BenchArguments {
     bool peers = true;
     std::string csv_path;
     std::string markdown_path;
-    sse::Accel accel = sse::Accel::automatic;  // of every SSE configuration
+    Accel accel = Accel::automatic;  // of every configuration's tracer
 };
 
 struct Configuration {
@@ -57,10 +57,8 @@ struct Timings {
 
 // Every configuration renders once per run, in turn, so a slow spell of the shared machine weighs on
 // both sides of a ratio instead of on one column; each ratio is the median of per-run ratios.
-// `accel` applies to the SSE configurations.
 std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene,
-                                  int width, int runs, std::vector<Image>* last_images,
-                                  sse::Accel accel = sse::Accel::automatic);
+                                  int width, int runs, std::vector<Image>* last_images, Accel accel = Accel::automatic);
 
 // POV-Ray 3.7 on the same scene exported at the same size, against the SSE tracer's seconds per frame
 // on one thread and on all.
@@ -68,7 +66,7 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
                   const std::filesystem::path& povray, int all_threads, const std::vector<double>& sse_seconds,
                   Report& report);
 // First hits of primary rays only: the SSE tracer (exact and --precision fast) against Embree 3.
-void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, sse::Accel accel,
+void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Accel accel,
                       Report& report);
 // The generated sphere field: time per ray as the scene grows, at a resolution that shrinks with it.
 void bench_scaling(const BenchArguments& arguments, int all_threads, Report& report);

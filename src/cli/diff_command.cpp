@@ -33,7 +33,7 @@ struct DiffArguments {
     int width = 0;
     double map_scale = 4.0 / 255.0;
     bool with_povray = false;
-    sse::Accel accel = sse::Accel::automatic;
+    Accel accel = Accel::automatic;
 };
 
 // POV-Ray's render of the scene against the reference's, both as 8-bit PNGs store them.
@@ -61,7 +61,7 @@ struct SceneReport {
 };
 
 TimedRender timed_render(const std::string& tracer, const scene::Scene& scene, int width,
-                         sse::Accel accel = sse::Accel::automatic) {
+                         Accel accel = Accel::automatic) {
     RenderOptions options;
     options.width = width;
     auto start = std::chrono::steady_clock::now();
@@ -247,7 +247,7 @@ int run_diff(const DiffArguments& arguments) {
             report.name = fs::path(path).stem().string();
             report.scene_path = path;
             report.tolerances = manifest.for_scene(report.name);
-            TimedRender reference = timed_render("reference", scene, arguments.width);
+            TimedRender reference = timed_render("reference", scene, arguments.width, arguments.accel);
             TimedRender sse = timed_render("sse", scene, arguments.width, arguments.accel);
             report.reference_seconds = reference.seconds;
             report.sse_seconds = sse.seconds;

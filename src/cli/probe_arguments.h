@@ -19,7 +19,7 @@ struct Arguments {
     int width = 0;
     int height = 0;
     bool json = false;
-    sse::Accel accel = sse::Accel::automatic;
+    Accel accel = Accel::automatic;
 };
 
 // A command line that cannot be probed: exit status 1 (usage), its message on stderr.

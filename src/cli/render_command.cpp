@@ -66,7 +66,7 @@ struct RenderArguments {
     std::string tracer = default_tracer;
     int threads = 0;
     sse::Precision precision;
-    sse::Accel accel = sse::Accel::automatic;
+    Accel accel = Accel::automatic;
 };
 
 // Refuse an output we could not write before spending time on the render.
@@ -124,10 +124,6 @@ int run_render(const RenderArguments& arguments) {
         return exit_cpu_unsupported;
     }
     if (std::string problem = precision_problem(arguments.tracer, arguments.precision); !problem.empty()) {
-        std::cerr << "twinray render: " << problem << "\n";
-        return exit_usage;
-    }
-    if (std::string problem = accel_problem(arguments.tracer, arguments.accel); !problem.empty()) {
         std::cerr << "twinray render: " << problem << "\n";
         return exit_usage;
     }
@@ -189,8 +185,8 @@ int run_render(const RenderArguments& arguments) {
                 options.threads == 1 ? "" : "s");
     if (arguments.tracer == "sse") {
         std::printf("precision:   %s\n", sse::precision_name(arguments.precision).c_str());
-        std::printf("accel:       %s\n", sse::accel_name(arguments.accel).c_str());
     }
+    std::printf("accel:       %s\n", accel_name(arguments.accel).c_str());
     std::printf("resolution:  %d x %d\n", result.image.width(), result.image.height());
     std::printf("rays traced: %llu\n", static_cast<unsigned long long>(result.tally.rays));
     print_depth_control(scene, arguments.scene_path, result);

@@ -13,25 +13,26 @@ namespace {
 
 struct TracerEntry {
     std::string description;
-    std::function<RenderResult(const scene::Scene&, const RenderOptions&, const sse::Precision&, sse::Accel)> render;
+    std::function<RenderResult(const scene::Scene&, const RenderOptions&, const sse::Precision&, Accel)> render;
 };
 
 const std::map<std::string, TracerEntry>& registry() {
     static const std::map<std::string, TracerEntry> tracers = {
         {"reference",
          {"scalar double-precision reference (the oracle)",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&, sse::Accel) {
-              return reference::render<double>(scene, options);
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&, Accel accel) {
+              return reference::render<double>(scene, options, accel);
           }}},
         {"reference-float",
          {"the reference's code in single precision",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&, sse::Accel) {
-              return reference::render<float>(scene, options);
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&, Accel accel) {
+              return reference::render<float>(scene, options, accel);
           }}},
         {"sse",
          {"single-precision SSE4.1 tracer, the fast one",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision& precision,
-             sse::Accel accel) { return sse::render(scene, options, precision, accel); }}},
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision& precision, Accel accel) {
+              return sse::render(scene, options, precision, accel);
+          }}},
     };
     return tracers;
 }
@@ -61,15 +62,12 @@ std::string tracer_unavailable_reason(const std::string& name) {
 }
 
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
-                         const sse::Precision& precision, sse::Accel accel) {
+                         const sse::Precision& precision, Accel accel) {
     auto entry = registry().find(tracer_name);
     if (entry == registry().end()) {
         throw std::invalid_argument("unknown tracer \"" + tracer_name + "\"");
     }
     if (std::string problem = precision_problem(tracer_name, precision); !problem.empty()) {
-        throw std::invalid_argument(problem);
-    }
-    if (std::string problem = accel_problem(tracer_name, accel); !problem.empty()) {
         throw std::invalid_argument(problem);
     }
     return entry->second.render(scene, options, precision, accel);
@@ -110,24 +108,17 @@ std::string precision_problem(const std::string& tracer_name, const sse::Precisi
     return "";
 }
 
-void add_accel_option(CLI::App& command, sse::Accel& accel) {
+void add_accel_option(CLI::App& command, Accel& accel) {
     command
         .add_option_function<std::string>(
             "--accel",
             [&accel](const std::string& name) {
-                accel = name == "none" ? sse::Accel::none : name == "bvh" ? sse::Accel::bvh : sse::Accel::automatic;
+                accel = name == "none" ? Accel::none : name == "bvh" ? Accel::bvh : Accel::automatic;
             },
-            "sse: auto (a BVH above " + std::to_string(sse::bvh_crossover) +
-                " bounded objects, the default), none (every ray tests every primitive) or bvh; the image is "
-                "the same")
+            "auto (a BVH where a scene has more than " + std::to_string(sse::bvh_crossover) +
+                " primitives in bounded objects, sse, or " + std::to_string(reference::bvh_crossover) +
+                " objects, reference; the default), none (every ray tests every object) or bvh; the image is the same")
         ->check(CLI::IsMember({"auto", "none", "bvh"}));
-}
-
-std::string accel_problem(const std::string& tracer_name, sse::Accel accel) {
-    if (accel != sse::Accel::automatic && tracer_name != "sse") {
-        return "--accel " + sse::accel_name(accel) + " applies to --tracer sse only";
-    }
-    return "";
 }
 
 }  // namespace twinray::cli

@@ -17,19 +17,18 @@ std::string tracer_description(const std::string& name);
 // Empty when the tracer can run on this machine, else why not (the SSE tracer needs SSE4.1).
 std::string tracer_unavailable_reason(const std::string& name);
 inline const char* default_tracer = "sse";
-// `precision` and `accel` apply to the SSE tracer only; knobs or an accel asked of another tracer are refused
-// (std::invalid_argument), as are knob combinations the SSE tracer is not built for.
+// `precision` applies to the SSE tracer only; knobs asked of another tracer are refused
+// (std::invalid_argument), as are knob combinations the SSE tracer is not built for. `accel` applies to every
+// tracer.
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
-                         const sse::Precision& precision = {}, sse::Accel accel = sse::Accel::automatic);
+                         const sse::Precision& precision = {}, Accel accel = Accel::automatic);
 
 // --fast-rcp, --fast-rsqrt, --dpps, --textbook-quadratic, --ftz and the preset --precision exact|fast.
 void add_precision_options(CLI::App& command, sse::Precision& precision);
 // Empty when `precision` can be used with the tracer, else why not (for a usage error).
 std::string precision_problem(const std::string& tracer_name, const sse::Precision& precision);
 
-// --accel auto|none|bvh.
-void add_accel_option(CLI::App& command, sse::Accel& accel);
-// Empty when `accel` can be used with the tracer, else why not (for a usage error).
-std::string accel_problem(const std::string& tracer_name, sse::Accel accel);
+// --accel auto|none|bvh (Accel names the choice for every tracer).
+void add_accel_option(CLI::App& command, Accel& accel);
 
 }  // namespace twinray::cli

@@ -96,15 +96,6 @@ std::string precision_name(const Precision& precision) {
     return name.empty() ? "exact" : name;
 }
 
-std::string accel_name(Accel accel) {
-    switch (accel) {
-        case Accel::none: return "none";
-        case Accel::bvh: return "bvh";
-        case Accel::automatic: break;
-    }
-    return "auto";
-}
-
 Tracer::Tracer(const scene::Scene& scene, const Precision& precision, Accel accel)
     : scene_(std::make_unique<CompiledScene>(compile(scene, accel))), precision_(precision) {
     with_precision_policy(precision, [](auto) {});  // refuses a combination that is not built

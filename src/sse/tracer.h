@@ -59,14 +59,10 @@ std::string built_precisions();
 // "exact", or the knobs joined by '+' ("rcp+rsqrt+ftz").
 std::string precision_name(const Precision& precision);
 
-// Whether the tracer finds hits through a BVH (docs/sse-tracer.md) or tests every primitive: the image is
-// the same bit for bit, only the time differs. `automatic` builds one where the scene has more than
-// bvh_crossover primitives in bounded objects (a CSG object counts as its primitives), the count from which
-// it measured faster (docs/performance.md, "The BVH").
-enum class Accel { automatic, none, bvh };
+// With Accel::automatic (render/render.h) the tracer builds its BVH (docs/sse-tracer.md) where the scene has
+// more than bvh_crossover primitives in bounded objects (a CSG object counts as its primitives), the count
+// from which it measured faster (docs/performance.md, "The BVH").
 constexpr std::size_t bvh_crossover = 64;
-// "auto", "none" or "bvh", as --accel spells them.
-std::string accel_name(Accel accel);
 
 // The point the tracer compiles a scene relative to, in double (re-basing, docs/numerics.md): the eye
 // where that makes the scene's coordinates smaller than the world's origin does (then every number the
