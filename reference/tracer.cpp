@@ -364,9 +364,9 @@ Ray<T> Tracer<T>::primary_ray(int x, int y, int width, int height) const {
 }
 
 template <typename T>
-RenderResult render(const scene::Scene& scene, const RenderOptions& options, Accel accel) {
+RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer<T> tracer(scene, accel);
+    Tracer<T> tracer(scene, options.accel);
     Image image(size.width, size.height);
     TraceTally tally = parallel_sum<TraceTally>(
         size.height, options.threads,
@@ -386,7 +386,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, Acc
 
 template class Tracer<double>;
 template class Tracer<float>;
-template RenderResult render<double>(const scene::Scene&, const RenderOptions&, Accel);
-template RenderResult render<float>(const scene::Scene&, const RenderOptions&, Accel);
+template RenderResult render<double>(const scene::Scene&, const RenderOptions&);
+template RenderResult render<float>(const scene::Scene&, const RenderOptions&);
 
 }  // namespace twinray::reference

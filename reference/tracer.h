@@ -130,11 +130,11 @@ private:
 };
 
 template <typename T>
-RenderResult render(const scene::Scene& scene, const RenderOptions& options, Accel accel = Accel::automatic);
+RenderResult render(const scene::Scene& scene, const RenderOptions& options);
 
 extern template class Tracer<double>;
 extern template class Tracer<float>;
-extern template RenderResult render<double>(const scene::Scene&, const RenderOptions&, Accel);
-extern template RenderResult render<float>(const scene::Scene&, const RenderOptions&, Accel);
+extern template RenderResult render<double>(const scene::Scene&, const RenderOptions&);
+extern template RenderResult render<float>(const scene::Scene&, const RenderOptions&);
 
 }  // namespace twinray::reference

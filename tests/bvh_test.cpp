@@ -147,13 +147,24 @@ std::vector<std::pair<std::string, Scene>> hard_scenes() {
         R"({"type": "difference", "material": "glass", "children": [{"type": "plane", "normal": [0, 0, 1], "offset": -9}, )" +
         sphere(0, 0, -9, 3, 0) + "]}");
     scenes.emplace_back("CSG among thousands", scene_of(objects));
+    objects.clear();
+    // 100 CSG objects at one place, among 300 spheres: more than a packet's CSG candidates hold (64).
+    for (std::size_t i = 0; i < 100; ++i) {
+        objects.push_back(R"({"type": "difference", "material": ")" + std::string(material_of(i)) +
+                          R"(", "children": [)" + box(0, 0, 0, 3, i) + ", " + sphere(1, 1, 1, 2.5, i) + "]}");
+        for (std::size_t j = 0; j < 3; ++j) {
+            objects.push_back(sphere(random.uniform(-9, 9), random.uniform(-9, 9), random.uniform(-9, 9), 0.5, j));
+        }
+    }
+    scenes.emplace_back("coincident CSG objects", scene_of(objects));
     return scenes;
 }
 
 RenderResult render(const Scene& scene, Accel accel, int threads = 2) {
     RenderOptions options;
     options.threads = threads;
-    return twinray::sse::render(scene, options, {}, accel);
+    options.accel = accel;
+    return twinray::sse::render(scene, options, {});
 }
 
 bool same_bits(const RenderResult& a, const RenderResult& b) {
@@ -240,8 +251,10 @@ TEST_F(Bvh, FastPrecisionImagesAreBitIdenticalWithAndWithoutBvh) {
     twinray::sse::Precision fast{true, true, false, true, true};
     RenderOptions options;
     options.threads = 2;
-    EXPECT_TRUE(same_bits(twinray::sse::render(scene, options, fast, Accel::none),
-                          twinray::sse::render(scene, options, fast, Accel::bvh)));
+    options.accel = Accel::none;
+    RenderResult brute = twinray::sse::render(scene, options, fast);
+    options.accel = Accel::bvh;
+    EXPECT_TRUE(same_bits(brute, twinray::sse::render(scene, options, fast)));
 }
 
 TEST_F(Bvh, BuildIsDeterministicAndRenderingIsTheSameOnAnyThreadCount) {
@@ -356,17 +369,18 @@ TEST(ReferenceBvh, ImagesAreBitIdenticalWithAndWithoutIt) {
         options.threads = 2;
         options.width = 32;
         options.height = 24;
+        options.accel = Accel::none;
         auto start = std::chrono::steady_clock::now();
-        RenderResult brute = twinray::reference::render<double>(scene, options, Accel::none);
+        RenderResult brute = twinray::reference::render<double>(scene, options);
         double brute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        RenderResult brute_float = twinray::reference::render<float>(scene, options);
+        options.accel = Accel::bvh;
         start = std::chrono::steady_clock::now();
-        RenderResult bvh = twinray::reference::render<double>(scene, options, Accel::bvh);
+        RenderResult bvh = twinray::reference::render<double>(scene, options);
         double bvh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         EXPECT_TRUE(same_bits(brute, bvh)) << name;
         EXPECT_EQ(brute.tally.rays, bvh.tally.rays) << name;
-        EXPECT_TRUE(same_bits(twinray::reference::render<float>(scene, options, Accel::none),
-                              twinray::reference::render<float>(scene, options, Accel::bvh)))
-            << name << " (float)";
+        EXPECT_TRUE(same_bits(brute_float, twinray::reference::render<float>(scene, options))) << name << " (float)";
         std::printf("%-24s %7llu rays  reference<double> brute force %.3f s  bvh %.3f s\n", name.c_str(),
                     static_cast<unsigned long long>(bvh.tally.rays), brute_seconds, bvh_seconds);
     }

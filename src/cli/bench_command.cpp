@@ -43,8 +43,9 @@ std::vector<Timings> time_renders(const std::vector<Configuration>& configuratio
             RenderOptions options;
             options.width = width;
             options.threads = configuration.threads;
+            options.accel = accel;
             auto start = std::chrono::steady_clock::now();
-            RenderResult result = render_with(configuration.tracer, scene, options, configuration.precision, accel);
+            RenderResult result = render_with(configuration.tracer, scene, options, configuration.precision);
             double seconds = seconds_since(start);
             timings[i].seconds.push_back(seconds);
             timings[i].mrays.push_back(static_cast<double>(result.tally.rays) / seconds / 1e6);

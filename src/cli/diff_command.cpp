@@ -64,8 +64,9 @@ TimedRender timed_render(const std::string& tracer, const scene::Scene& scene, i
                          Accel accel = Accel::automatic) {
     RenderOptions options;
     options.width = width;
+    options.accel = accel;
     auto start = std::chrono::steady_clock::now();
-    RenderResult result = render_with(tracer, scene, options, {}, accel);
+    RenderResult result = render_with(tracer, scene, options);
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return {compare::clamped(result.image), seconds};
 }

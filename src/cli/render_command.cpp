@@ -152,6 +152,7 @@ int run_render(const RenderArguments& arguments) {
     options.height = arguments.height;
     options.threads = resolve_thread_count(arguments.threads);
     options.cancel = &interrupted;
+    options.accel = arguments.accel;
     auto start = std::chrono::steady_clock::now();
     options.progress = terminal_progress(start);
     auto clear_progress = [&] {
@@ -161,7 +162,7 @@ int run_render(const RenderArguments& arguments) {
     };
     std::optional<RenderResult> rendered;
     try {
-        rendered.emplace(render_with(arguments.tracer, scene, options, arguments.precision, arguments.accel));
+        rendered.emplace(render_with(arguments.tracer, scene, options, arguments.precision));
         // A Ctrl-C after the last item but before the write still means "stop": nothing is written.
         if (interrupted.load(std::memory_order_relaxed)) {
             throw RenderCancelled();

@@ -13,25 +13,25 @@ namespace {
 
 struct TracerEntry {
     std::string description;
-    std::function<RenderResult(const scene::Scene&, const RenderOptions&, const sse::Precision&, Accel)> render;
+    std::function<RenderResult(const scene::Scene&, const RenderOptions&, const sse::Precision&)> render;
 };
 
 const std::map<std::string, TracerEntry>& registry() {
     static const std::map<std::string, TracerEntry> tracers = {
         {"reference",
          {"scalar double-precision reference (the oracle)",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&, Accel accel) {
-              return reference::render<double>(scene, options, accel);
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&) {
+              return reference::render<double>(scene, options);
           }}},
         {"reference-float",
          {"the reference's code in single precision",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&, Accel accel) {
-              return reference::render<float>(scene, options, accel);
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&) {
+              return reference::render<float>(scene, options);
           }}},
         {"sse",
          {"single-precision SSE4.1 tracer, the fast one",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision& precision, Accel accel) {
-              return sse::render(scene, options, precision, accel);
+          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision& precision) {
+              return sse::render(scene, options, precision);
           }}},
     };
     return tracers;
@@ -62,7 +62,7 @@ std::string tracer_unavailable_reason(const std::string& name) {
 }
 
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
-                         const sse::Precision& precision, Accel accel) {
+                         const sse::Precision& precision) {
     auto entry = registry().find(tracer_name);
     if (entry == registry().end()) {
         throw std::invalid_argument("unknown tracer \"" + tracer_name + "\"");
@@ -70,7 +70,7 @@ RenderResult render_with(const std::string& tracer_name, const scene::Scene& sce
     if (std::string problem = precision_problem(tracer_name, precision); !problem.empty()) {
         throw std::invalid_argument(problem);
     }
-    return entry->second.render(scene, options, precision, accel);
+    return entry->second.render(scene, options, precision);
 }
 
 void add_precision_options(CLI::App& command, sse::Precision& precision) {

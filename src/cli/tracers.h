@@ -18,10 +18,10 @@ std::string tracer_description(const std::string& name);
 std::string tracer_unavailable_reason(const std::string& name);
 inline const char* default_tracer = "sse";
 // `precision` applies to the SSE tracer only; knobs asked of another tracer are refused
-// (std::invalid_argument), as are knob combinations the SSE tracer is not built for. `accel` applies to every
-// tracer.
+// (std::invalid_argument), as are knob combinations the SSE tracer is not built for. options.accel applies to
+// every tracer.
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
-                         const sse::Precision& precision = {}, Accel accel = Accel::automatic);
+                         const sse::Precision& precision = {});
 
 // --fast-rcp, --fast-rsqrt, --dpps, --textbook-quadratic, --ftz and the preset --precision exact|fast.
 void add_precision_options(CLI::App& command, sse::Precision& precision);

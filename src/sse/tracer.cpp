@@ -163,9 +163,9 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     return render(scene, options, {});
 }
 
-RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision, Accel accel) {
+RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer tracer(scene, precision, accel);
+    Tracer tracer(scene, precision, options.accel);
     Image image(size.width, size.height);
     TraceTally tally = with_precision_policy(precision, [&](auto policy) {
         using P = decltype(policy);
@@ -203,10 +203,9 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
     return {std::move(image), tally};
 }
 
-FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision,
-                            Accel accel) {
+FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer tracer(scene, precision, accel);
+    Tracer tracer(scene, precision, options.accel);
     std::uint64_t hits = with_precision_policy(precision, [&](auto policy) {
         using P = decltype(policy);
         PacketTracer<P> packets(tracer.compiled());

@@ -97,8 +97,7 @@ private:
 };
 
 RenderResult render(const scene::Scene& scene, const RenderOptions& options);
-RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision,
-                    Accel accel = Accel::automatic);
+RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision);
 
 // Primary rays only: every pixel's nearest hit (the same packets, tile culling and intersection as
 // render, with the normal), no shading. The first-hit speed to hold against other ray casters (Embree).
@@ -106,7 +105,6 @@ struct FirstHits {
     std::uint64_t rays = 0;
     std::uint64_t hits = 0;
 };
-FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision = {},
-                            Accel accel = Accel::automatic);
+FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision = {});
 
 }  // namespace twinray::sse
