@@ -83,6 +83,15 @@ public:
     }
 
     bool empty() const { return nodes_.empty(); }
+    // Whether an object with these bounds goes into the tree (else every ray tests it).
+    static bool is_finite(const scene::Bounds& bounds) {
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!std::isfinite(bounds.low[axis]) || !std::isfinite(bounds.high[axis])) {
+                return false;
+            }
+        }
+        return true;
+    }
     // Objects without finite bounds, ascending: every ray tests them.
     const std::vector<std::uint32_t>& unbounded() const { return unbounded_; }
 
@@ -133,14 +142,6 @@ private:
         std::uint32_t axis = 0;   // inner node: the axis its children are split along
     };
 
-    static bool is_finite(const scene::Bounds& bounds) {
-        for (int axis = 0; axis < 3; ++axis) {
-            if (!std::isfinite(bounds.low[axis]) || !std::isfinite(bounds.high[axis])) {
-                return false;
-            }
-        }
-        return true;
-    }
     static scene::Vec3 min(const scene::Vec3& a, const scene::Vec3& b) {
         return {std::min(a[0], b[0]), std::min(a[1], b[1]), std::min(a[2], b[2])};
     }

@@ -28,6 +28,19 @@ Shape<T> compile(const scene::Object& object) {
         object.shape);
 }
 
+// 1 for a primitive, a CSG object's leaves (at most scene::max_csg_leaves, so the recursion is shallow).
+std::size_t primitives_in(const scene::Object& object) {
+    const auto* csg = std::get_if<scene::Csg>(&object.shape);
+    if (csg == nullptr) {
+        return 1;
+    }
+    std::size_t count = 0;
+    for (const scene::Object& child : csg->children) {
+        count += primitives_in(child);
+    }
+    return count;
+}
+
 template <typename T>
 SpanList<T> spans_of(const Shape<T>& shape, const Ray<T>& ray) {
     if (const auto* node = std::get_if<CsgNode<T>>(&shape)) {
@@ -129,12 +142,14 @@ Tracer<T>::Tracer(const scene::Scene& scene, Accel accel)
     }
     leaf_shapes_.resize(scene.leaf_paths.size());
     std::vector<scene::Bounds> bounds;
+    std::size_t bounded_primitives = 0;
     for (const scene::Object& object : scene.objects) {
         objects_.push_back(compile<T>(object));
         collect_leaf_shapes<T>(objects_.back(), leaf_shapes_);
         bounds.push_back(scene::bounds(object));
+        bounded_primitives += ObjectBvh<T>::is_finite(bounds.back()) ? primitives_in(object) : 0;
     }
-    if (accel == Accel::bvh || (accel == Accel::automatic && objects_.size() > bvh_crossover)) {
+    if (accel == Accel::bvh || (accel == Accel::automatic && bounded_primitives > bvh_crossover)) {
         bvh_ = ObjectBvh<T>(bounds);
     }
 }
