@@ -33,7 +33,7 @@ struct BvhRays {
 };
 
 struct NodeTest {
-    vfloat4 near;  // where each lane enters the box (0 if it starts inside)
+    vfloat4 near;  // where each lane enters the box (0 if it starts inside); +∞ for lanes that miss it
     vbool4 hit;    // lanes of `lanes` that meet the box within [0, t_max]
 };
 
@@ -48,7 +48,8 @@ inline NodeTest test_node(const BvhNode& node, const BvhRays& rays, vfloat4 t_ma
         near = max(near, min(t_low, t_high));
         far = min(far, max(t_low, t_high));
     }
-    return {near, lanes & (near <= far)};
+    vbool4 hit = lanes & (near <= far);
+    return {select(hit, near, vfloat4(infinity)), hit};
 }
 
 // Calls at_leaf(node) for every leaf whose box some lane of `lanes` meets before its `t_max`. at_leaf may
@@ -101,8 +102,8 @@ void for_each_leaf_met(const Bvh& bvh, const BvhRays& rays, vbool4& lanes, const
 }
 
 // The CSG objects a packet may meet, folded in ascending index: the order brute force folds them in, so
-// each sees the same limit and the answer is the same. Without a walk of the BVH (no BVH, or transparent
-// shadow rays), or past `capacity` candidates (no heap allocation per ray), every object.
+// each sees the same limit and the answer is the same. Without a walk of the BVH (no BVH), or past `capacity`
+// candidates (no heap allocation per ray), every object.
 class CsgCandidates {
 public:
     static constexpr int capacity = 64;
