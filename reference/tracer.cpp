@@ -2,6 +2,7 @@
 
 #include "reference/csg.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -26,6 +27,19 @@ Shape<T> compile(const scene::Object& object) {
             }
         },
         object.shape);
+}
+
+// 1 for a primitive, a CSG object's leaves (at most scene::max_csg_leaves, so the recursion is shallow).
+std::size_t primitives_in(const scene::Object& object) {
+    const auto* csg = std::get_if<scene::Csg>(&object.shape);
+    if (csg == nullptr) {
+        return 1;
+    }
+    std::size_t count = 0;
+    for (const scene::Object& child : csg->children) {
+        count += primitives_in(child);
+    }
+    return count;
 }
 
 template <typename T>
@@ -113,7 +127,7 @@ int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const Ray<T>&
 }  // namespace
 
 template <typename T>
-Tracer<T>::Tracer(const scene::Scene& scene)
+Tracer<T>::Tracer(const scene::Scene& scene, Accel accel)
     : camera_(math::camera_basis(Vec3<T>(scene.camera.eye), Vec3<T>(scene.camera.look_at), Vec3<T>(scene.camera.up),
                                  scene.camera.fov_deg, [](Vec3<T> v) { return normalize(v); })),
       background_(scene.background),
@@ -128,10 +142,32 @@ Tracer<T>::Tracer(const scene::Scene& scene)
         lights_.push_back({Vec3<T>(light.position), Color<T>(light.color)});
     }
     leaf_shapes_.resize(scene.leaf_paths.size());
+    std::vector<scene::Bounds> bounds;
+    std::size_t bounded_primitives = 0;
     for (const scene::Object& object : scene.objects) {
         objects_.push_back(compile<T>(object));
         collect_leaf_shapes<T>(objects_.back(), leaf_shapes_);
+        bounds.push_back(scene::bounds(object));
+        bounded_primitives += ObjectBvh<T>::is_finite(bounds.back()) ? primitives_in(object) : 0;
     }
+    if (accel == Accel::bvh || (accel == Accel::automatic && bounded_primitives > bvh_crossover)) {
+        bvh_ = ObjectBvh<T>(bounds);
+    }
+}
+
+template <typename T>
+template <typename Limit, typename Visit>
+void Tracer<T>::for_each_candidate(const Ray<T>& ray, Limit&& limit, Visit&& visit) const {
+    if (bvh_.empty()) {
+        for (std::size_t i = 0; i < objects_.size(); ++i) {
+            visit(i);
+        }
+        return;
+    }
+    for (std::uint32_t i : bvh_.unbounded()) {
+        visit(i);
+    }
+    bvh_.for_each_met(ray, limit, visit);
 }
 
 template <typename T>
@@ -147,22 +183,25 @@ std::optional<Hit<T>> Tracer<T>::intersect(const Ray<T>& ray) const {
 template <typename T>
 std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
     std::optional<Hit<T>> nearest;
-    for (const Shape<T>& object : objects_) {
-        for (const Span<T>& span : spans_of(object, ray)) {
+    auto limit = [&] { return nearest ? nearest->t : std::numeric_limits<T>::infinity(); };
+    for_each_candidate(ray, limit, [&](std::size_t object) {
+        for (const Span<T>& span : spans_of(objects_[object], ray)) {
             bool entering = span.enter.t > T(0);
             const Crossing<T>& crossing = entering ? span.enter : span.exit;
             if (!(crossing.t > T(0))) {
                 continue;
             }
-            // Strictly nearer: at equal t the object earlier in the file keeps the hit.
-            if (crossing.leaf >= 0 && (!nearest || crossing.t < nearest->t)) {
+            // Nearer, or as near and earlier in the file (a smaller leaf): the object earlier in the file keeps
+            // the hit, in whatever order the objects come.
+            if (crossing.leaf >= 0 &&
+                (!nearest || crossing.t < nearest->t || (crossing.t == nearest->t && crossing.leaf < nearest->leaf))) {
                 Vec3<T> facing = dot(crossing.outward_normal, ray.direction) > T(0) ? -crossing.outward_normal
                                                                                     : crossing.outward_normal;
                 nearest = Hit<T>{crossing.t, ray.at(crossing.t), facing, crossing.leaf, entering};
             }
             break;
         }
-    }
+    });
     if (nearest) {
         SurfacePoint<T> on_surface =
             std::visit([&](const auto& shape) { return surface_point(shape, nearest->point, nearest->normal); },
@@ -179,7 +218,9 @@ T Tracer<T>::shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const 
     T distance = length(to_light);
     Ray<T> ray{origin, to_light / distance};
     T transmittance = T(1);
-    for (const Shape<T>& object : objects_) {
+    // Multiplies in the transmission of each surface of the object crossed before the light; false once
+    // nothing gets through.
+    auto passes = [&](const Shape<T>& object) {
         for (const Span<T>& span : spans_of(object, ray)) {
             for (const Crossing<T>* crossing : {&span.enter, &span.exit}) {
                 if (crossing->leaf >= 0 && crossing->t > T(0) && crossing->t < distance) {
@@ -187,8 +228,27 @@ T Tracer<T>::shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const 
                 }
             }
             if (transmittance == T(0)) {
-                return transmittance;
+                return false;
             }
+        }
+        return true;
+    };
+    if (bvh_.empty()) {
+        for (const Shape<T>& object : objects_) {
+            if (!passes(object)) {
+                break;
+            }
+        }
+        return transmittance;
+    }
+    // Float products depend on their order: the objects the BVH finds are multiplied in the file's order.
+    std::vector<std::size_t> met;
+    for_each_candidate(
+        ray, [&] { return distance; }, [&](std::size_t object) { met.push_back(object); });
+    std::sort(met.begin(), met.end());
+    for (std::size_t object : met) {
+        if (!passes(objects_[object])) {
+            break;
         }
     }
     return transmittance;
@@ -322,7 +382,7 @@ Ray<T> Tracer<T>::primary_ray(int x, int y, int width, int height) const {
 template <typename T>
 RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer<T> tracer(scene);
+    Tracer<T> tracer(scene, options.accel);
     Image image(size.width, size.height);
     const auto start = std::chrono::steady_clock::now();
     TraceTally tally = parallel_sum<TraceTally>(

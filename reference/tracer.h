@@ -5,6 +5,7 @@
 
 #include "math/camera.h"
 #include "reference/box.h"
+#include "reference/bvh.h"
 #include "reference/cylinder.h"
 #include "reference/plane.h"
 #include "reference/ray.h"
@@ -60,10 +61,15 @@ struct Light {
     Color<T> color;
 };
 
+// With Accel::automatic (render/render.h) the tracer builds its BVH over its top-level objects
+// (reference/bvh.h) where its bounded objects hold more than bvh_crossover primitives (a CSG object counts
+// as its primitives), the count from which it measured faster (docs/performance.md, "The BVH").
+constexpr std::size_t bvh_crossover = 8;
+
 template <typename T>
 class Tracer {
 public:
-    explicit Tracer(const scene::Scene& scene);
+    explicit Tracer(const scene::Scene& scene, Accel accel = Accel::automatic);
 
     // The first surface along the ray with t > 0; a miss for a ray that is not is_traceable (ray.h).
     std::optional<Hit<T>> intersect(const Ray<T>& ray) const;
@@ -116,6 +122,12 @@ private:
     std::vector<Light<T>> lights_;
     std::vector<Shape<T>> objects_;
     std::vector<PrimitiveShape<T>> leaf_shapes_;  // by leaf index: where hit points are re-projected
+    ObjectBvh<T> bvh_;                            // empty: every ray tests every object
+
+    // Calls visit(object) for the objects a ray may meet within [0, limit()]: every object, or with a BVH the
+    // unbounded ones and those it finds (in no particular order).
+    template <typename Limit, typename Visit>
+    void for_each_candidate(const Ray<T>& ray, Limit&& limit, Visit&& visit) const;
 };
 
 template <typename T>

@@ -32,7 +32,7 @@ double median(std::vector<double> values) {
 }
 
 std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene,
-                                  int width, int runs, std::vector<Image>* last_images) {
+                                  int width, int runs, std::vector<Image>* last_images, Accel accel) {
     std::vector<Timings> timings(configurations.size());
     if (last_images != nullptr) {
         last_images->assign(configurations.size(), Image(1, 1));
@@ -43,6 +43,7 @@ std::vector<Timings> time_renders(const std::vector<Configuration>& configuratio
             RenderOptions options;
             options.width = width;
             options.threads = configuration.threads;
+            options.accel = accel;
             auto start = std::chrono::steady_clock::now();
             RenderResult result = render_with(configuration.tracer, scene, options, configuration.precision);
             double seconds = seconds_since(start);
@@ -84,7 +85,7 @@ std::vector<Configuration> trade_configurations(int all_threads) {
 
 accuracy::RayAccuracy ray_accuracy(const Configuration& configuration, const scene::Scene& scene,
                                    const std::vector<std::optional<accuracy::FirstHit>>& expected, int width,
-                                   int height) {
+                                   int height, Accel accel) {
     if (configuration.tracer == "reference") {
         reference::Tracer<double> tracer(scene);
         return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);
@@ -93,7 +94,7 @@ accuracy::RayAccuracy ray_accuracy(const Configuration& configuration, const sce
         reference::Tracer<float> tracer(scene);
         return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);
     }
-    sse::Tracer tracer(scene, configuration.precision);
+    sse::Tracer tracer(scene, configuration.precision, accel);
     return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);
 }
 
@@ -109,7 +110,8 @@ void bench_scene(const std::string& name, const scene::Scene& scene, const Bench
                  const std::vector<Configuration>& configurations, std::vector<Summary>& summaries,
                  std::vector<double>& sse_seconds, Report& report) {
     std::vector<Image> images;
-    std::vector<Timings> timings = time_renders(configurations, scene, arguments.width, arguments.runs, &images);
+    std::vector<Timings> timings =
+        time_renders(configurations, scene, arguments.width, arguments.runs, &images, arguments.accel);
     const int width = images[0].width(), height = images[0].height();
     reference::Tracer<double> oracle(scene);
     auto expected = accuracy::all_first_hits(accuracy::first_hits_of(oracle, width, height), width, height);
@@ -118,7 +120,7 @@ void bench_scene(const std::string& name, const scene::Scene& scene, const Bench
     over_one_level.fail = over_one_level.warn = 1.0 / 255.0;
     for (std::size_t i = 0; i < configurations.size(); ++i) {
         compare::Metrics image = compare::measure(reference_image, compare::clamped(images[i]), over_one_level);
-        accuracy::RayAccuracy rays = ray_accuracy(configurations[i], scene, expected, width, height);
+        accuracy::RayAccuracy rays = ray_accuracy(configurations[i], scene, expected, width, height, arguments.accel);
         double over_share = static_cast<double>(image.fail_pixels) / static_cast<double>(image.pixel_count);
         const Timings& t = timings[i];
         report.trade.add_row(
@@ -295,7 +297,7 @@ int run_bench(const BenchArguments& arguments) {
             }
         }
         if (arguments.peers) {
-            bench_first_hits(name, scene, arguments.width, arguments.runs, report);
+            bench_first_hits(name, scene, arguments.width, arguments.runs, arguments.accel, report);
         }
         std::fputs(".", stderr);
     }
@@ -356,6 +358,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
     command->add_flag("--scaling", arguments->scaling,
                       "Also time generated sphere fields of 10, 100, 1000 and 10000 spheres (about a minute)");
     command->add_flag("!--no-peers", arguments->peers, "Leave out POV-Ray and the first-hit table (Embree)");
+    add_accel_option(*command, arguments->accel);
     command->add_option("--csv", arguments->csv_path,
                         "Write the table as CSV to FILE, and the other tables beside it (FILE-summary.csv, ...)");
     command->add_option("--markdown", arguments->markdown_path, "Write every table as Markdown to FILE");

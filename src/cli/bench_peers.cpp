@@ -52,10 +52,12 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
                            cell("%.1f", (one - start_up) / sse_seconds[0])});
 }
 
-void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Report& report) {
+void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Accel accel,
+                      Report& report) {
     RenderOptions options;
     options.width = width;
     options.threads = 1;
+    options.accel = accel;
     std::vector<double> exact, fast;
     sse::FirstHits hits;
     for (int run = 0; run < runs; ++run) {
@@ -118,12 +120,14 @@ void bench_scaling(const BenchArguments& arguments, int all_threads, Report& rep
         scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
         std::vector<std::string> row = {std::to_string(count),
                                         std::to_string(size.width) + "x" + std::to_string(size.height)};
-        for (const Timings& timing : time_renders(configurations, scene, width, arguments.runs, nullptr)) {
+        for (const Timings& timing :
+             time_renders(configurations, scene, width, arguments.runs, nullptr, arguments.accel)) {
             row.push_back(cell("%.1f", 1e3 / median(timing.mrays)));
         }
         RenderOptions options;
         options.width = width;
         options.threads = 1;
+        options.accel = arguments.accel;
         std::vector<double> first_hit;
         for (int run = 0; run < arguments.runs; ++run) {
             auto start = std::chrono::steady_clock::now();

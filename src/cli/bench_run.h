@@ -24,6 +24,7 @@ struct BenchArguments {
     bool peers = true;
     std::string csv_path;
     std::string markdown_path;
+    Accel accel = Accel::automatic;  // of every configuration's tracer
 };
 
 struct Configuration {
@@ -57,7 +58,7 @@ struct Timings {
 // Every configuration renders once per run, in turn, so a slow spell of the shared machine weighs on
 // both sides of a ratio instead of on one column; each ratio is the median of per-run ratios.
 std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene,
-                                  int width, int runs, std::vector<Image>* last_images);
+                                  int width, int runs, std::vector<Image>* last_images, Accel accel = Accel::automatic);
 
 // POV-Ray 3.7 on the same scene exported at the same size, against the SSE tracer's seconds per frame
 // on one thread and on all.
@@ -65,7 +66,8 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
                   const std::filesystem::path& povray, int all_threads, const std::vector<double>& sse_seconds,
                   Report& report);
 // First hits of primary rays only: the SSE tracer (exact and --precision fast) against Embree 3.
-void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Report& report);
+void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Accel accel,
+                      Report& report);
 // The generated sphere field: time per ray as the scene grows, at a resolution that shrinks with it.
 void bench_scaling(const BenchArguments& arguments, int all_threads, Report& report);
 

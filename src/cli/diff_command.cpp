@@ -38,6 +38,7 @@ struct DiffArguments {
     double linear_map_scale = 0;  // > 0: the heat maps are linear up to it instead of logarithmic
     bool with_povray = false;
     std::string json_path;
+    Accel accel = Accel::automatic;
 };
 
 struct TimedRender {
@@ -47,9 +48,10 @@ struct TimedRender {
 
 // The image as stored (clamped) and the time spent tracing it: the tracer's set-up (compiling the scene) is
 // left out, as is loading the scene, so the speed-up compares tracing with tracing.
-TimedRender timed_render(const std::string& tracer, const scene::Scene& scene, int width) {
+TimedRender timed_render(const std::string& tracer, const scene::Scene& scene, int width, Accel accel) {
     RenderOptions options;
     options.width = width;
+    options.accel = accel;
     RenderResult result = render_with(tracer, scene, options);
     return {compare::clamped(result.image), result.tracing_seconds};
 }
@@ -187,8 +189,8 @@ int run_diff(const DiffArguments& arguments) {
             report.name = fs::path(path).stem().string();
             report.scene_path = path;
             report.tolerances = manifest.for_scene(report.name);
-            TimedRender reference = timed_render("reference", scene, arguments.width);
-            TimedRender sse = timed_render("sse", scene, arguments.width);
+            TimedRender reference = timed_render("reference", scene, arguments.width, arguments.accel);
+            TimedRender sse = timed_render("sse", scene, arguments.width, arguments.accel);
             report.reference_seconds = reference.seconds;
             report.sse_seconds = sse.seconds;
             report.width = reference.image.width();
@@ -278,6 +280,7 @@ void add_diff_command(CLI::App& app, std::function<int()>& run) {
     command->add_flag(
         "--pov", arguments->with_povray,
         "Also render each scene with POV-Ray 3.7 (twinray pov) and show its image and error map against the reference");
+    add_accel_option(*command, arguments->accel);
     command->callback([arguments, &run] { run = [arguments] { return run_diff(*arguments); }; });
 }
 

@@ -3,6 +3,7 @@
 
 #include "render/ray_tree.h"
 #include "scene/scene.h"
+#include "sse/tracer.h"
 
 #include <CLI/CLI.hpp>
 
@@ -18,6 +19,7 @@ struct Arguments {
     int width = 0;
     int height = 0;
     bool json = false;
+    Accel accel = Accel::automatic;
 };
 
 // A command line that cannot be probed: exit status 1 (usage), its message on stderr.

@@ -7,6 +7,7 @@
 #include "cli/probe_json.h"
 #include "cli/probe_text.h"
 #include "cli/probe_tracing.h"
+#include "cli/tracers.h"
 #include "scene/loader.h"
 
 #include <iostream>
@@ -38,7 +39,7 @@ int run_probe(const probe::Arguments& arguments) {
             return exit_usage;
         }
     }
-    probe::Findings findings = probe::trace_target(scene, target);
+    probe::Findings findings = probe::trace_target(scene, target, arguments.accel);
     if (arguments.json) {
         std::cout << probe::report_json(scene, arguments.scene_path, target, findings).dump(2) << "\n";
     } else {
@@ -56,6 +57,7 @@ void add_probe_command(CLI::App& app, std::function<int()>& run) {
         "Trace one pixel (or ray) with both tracers and print the two ray trees side by side, marking "
         "where they first diverge");
     probe::add_options(*command, *arguments);
+    add_accel_option(*command, arguments->accel);
     command->callback([arguments, &run] { run = [arguments] { return run_probe(*arguments); }; });
 }
 

@@ -9,9 +9,9 @@
 namespace twinray::cli::probe {
 namespace {
 
-TracedTree trace_reference(const scene::Scene& scene, const Target& target) {
+TracedTree trace_reference(const scene::Scene& scene, const Target& target, Accel accel) {
     using R = reference::Ray<double>;
-    reference::Tracer<double> tracer(scene);
+    reference::Tracer<double> tracer(scene, accel);
     R ray = target.is_pixel ? tracer.primary_ray(target.x, target.y, target.width, target.height)
                             : R{{target.origin[0], target.origin[1], target.origin[2]},
                                 {target.direction[0], target.direction[1], target.direction[2]}};
@@ -22,8 +22,8 @@ TracedTree trace_reference(const scene::Scene& scene, const Target& target) {
 
 // The ray given by hand reaches the sse tracer with its origin in double (the tracer re-bases it on its own
 // origin before rounding to float) and its direction, normalised in double, rounded to float.
-TracedTree trace_sse(const scene::Scene& scene, const Target& target) {
-    sse::Tracer tracer(scene);
+TracedTree trace_sse(const scene::Scene& scene, const Target& target, Accel accel) {
+    sse::Tracer tracer(scene, {}, accel);
     sse::Ray ray = target.is_pixel ? tracer.primary_ray(target.x, target.y, target.width, target.height)
                                    : sse::Ray{target.origin, sse::Vec3(target.direction)};
     TracedTree traced{"sse (float, SSE4.1)", {}};
@@ -33,10 +33,10 @@ TracedTree trace_sse(const scene::Scene& scene, const Target& target) {
 
 }  // namespace
 
-Findings trace_target(const scene::Scene& scene, const Target& target) {
-    Findings findings{trace_reference(scene, target), std::nullopt, "", {}, {}};
+Findings trace_target(const scene::Scene& scene, const Target& target, Accel accel) {
+    Findings findings{trace_reference(scene, target, accel), std::nullopt, "", {}, {}};
     if (sse::cpu_supports_sse41()) {
-        findings.sse = trace_sse(scene, target);
+        findings.sse = trace_sse(scene, target, accel);
         findings.divergences = find_divergences(findings.reference.tree, findings.sse->tree, findings.limits);
     } else {
         findings.sse_note = "sse not run: " + sse::missing_sse41_message();

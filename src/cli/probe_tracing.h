@@ -26,7 +26,7 @@ struct Findings {
     std::vector<Divergence> divergences;  // in tracing order; empty without sse
 };
 
-Findings trace_target(const scene::Scene& scene, const Target& target);
+Findings trace_target(const scene::Scene& scene, const Target& target, Accel accel = Accel::automatic);
 
 // Naming what a tree holds, for the text and the JSON alike.
 std::string object_name(const scene::Scene& scene, int leaf);

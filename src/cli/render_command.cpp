@@ -66,6 +66,7 @@ struct RenderArguments {
     std::string tracer = default_tracer;
     int threads = 0;
     sse::Precision precision;
+    Accel accel = Accel::automatic;
 };
 
 // Refuse an output we could not write before spending time on the render.
@@ -155,6 +156,7 @@ int run_render(const RenderArguments& arguments) {
     options.height = arguments.height;
     options.threads = resolve_thread_count(arguments.threads);
     options.cancel = &interrupted;
+    options.accel = arguments.accel;
     auto start = std::chrono::steady_clock::now();
     options.progress = terminal_progress(start);
     auto clear_progress = [&] {
@@ -189,6 +191,7 @@ int run_render(const RenderArguments& arguments) {
     if (arguments.tracer == "sse") {
         std::printf("precision:   %s\n", sse::precision_name(arguments.precision).c_str());
     }
+    std::printf("accel:       %s\n", accel_name(arguments.accel).c_str());
     std::printf("resolution:  %d x %d\n", result.image.width(), result.image.height());
     std::printf("rays traced: %llu\n", static_cast<unsigned long long>(result.tally.rays));
     print_depth_control(scene, arguments.scene_path, result);
@@ -223,6 +226,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
                      "Worker threads (default: all cores); the image is identical for any count")
         ->check(CLI::Range(1, 1024));
     add_precision_options(*command, arguments->precision);
+    add_accel_option(*command, arguments->accel);
     command->callback([arguments, &run] { run = [arguments] { return run_render(*arguments); }; });
 }
 

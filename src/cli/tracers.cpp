@@ -108,4 +108,17 @@ std::string precision_problem(const std::string& tracer_name, const sse::Precisi
     return "";
 }
 
+void add_accel_option(CLI::App& command, Accel& accel) {
+    command
+        .add_option_function<std::string>(
+            "--accel",
+            [&accel](const std::string& name) {
+                accel = name == "none" ? Accel::none : name == "bvh" ? Accel::bvh : Accel::automatic;
+            },
+            "auto (a BVH where a scene's bounded objects hold more than " + std::to_string(sse::bvh_crossover) +
+                " primitives, sse, or " + std::to_string(reference::bvh_crossover) +
+                ", reference; the default), none (every ray tests every object) or bvh; the image is the same")
+        ->check(CLI::IsMember({"auto", "none", "bvh"}));
+}
+
 }  // namespace twinray::cli

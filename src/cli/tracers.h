@@ -18,7 +18,8 @@ std::string tracer_description(const std::string& name);
 std::string tracer_unavailable_reason(const std::string& name);
 inline const char* default_tracer = "sse";
 // `precision` applies to the SSE tracer only; knobs asked of another tracer are refused
-// (std::invalid_argument), as are knob combinations the SSE tracer is not built for.
+// (std::invalid_argument), as are knob combinations the SSE tracer is not built for. options.accel applies to
+// every tracer.
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
                          const sse::Precision& precision = {});
 
@@ -26,5 +27,8 @@ RenderResult render_with(const std::string& tracer_name, const scene::Scene& sce
 void add_precision_options(CLI::App& command, sse::Precision& precision);
 // Empty when `precision` can be used with the tracer, else why not (for a usage error).
 std::string precision_problem(const std::string& tracer_name, const sse::Precision& precision);
+
+// --accel auto|none|bvh (Accel names the choice for every tracer).
+void add_accel_option(CLI::App& command, Accel& accel);
 
 }  // namespace twinray::cli

@@ -10,6 +10,15 @@
 
 namespace twinray {
 
+std::string accel_name(Accel accel) {
+    switch (accel) {
+        case Accel::none: return "none";
+        case Accel::bvh: return "bvh";
+        case Accel::automatic: break;
+    }
+    return "auto";
+}
+
 int resolve_thread_count(int requested) {
     if (requested > 0) {
         return requested;

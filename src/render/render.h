@@ -7,9 +7,17 @@
 #include <cstdint>
 #include <functional>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace twinray {
+
+// Whether a tracer finds hits through a bounding volume hierarchy or tests every object (`--accel`): the
+// image is the same bit for bit, only the time differs. `automatic` builds one where the scene is large
+// enough for it to pay, each tracer by its own measured crossover (docs/performance.md, "The BVH").
+enum class Accel { automatic, none, bvh };
+// "auto", "none" or "bvh", as --accel spells them.
+std::string accel_name(Accel accel);
 
 struct RenderOptions {
     int width = 0;    // 0: the scene's
@@ -21,6 +29,7 @@ struct RenderOptions {
     // throws RenderCancelled and no image is returned. The CLI points it at the flag its SIGINT handler
     // sets (Ctrl-C), so a cancelled render stops within one item per thread.
     const std::atomic<bool>* cancel = nullptr;
+    Accel accel = Accel::automatic;  // BVH or brute force (above): the time changes, the image does not
 };
 
 // Thrown by parallel_for (and so by every tracer's render) when RenderOptions::cancel became true.

@@ -49,12 +49,13 @@ struct CameraPacket {
 // cannot be hit by any of them, so the tile's packets test only the rest. This is exact, not an
 // approximation: the planes are moved out by a margin far beyond float rounding (1e-4 of the distance),
 // so no primitive a ray could hit is ever dropped, and the image is the same as without culling.
-// Secondary and shadow rays go everywhere and test every primitive.
+// Secondary and shadow rays go everywhere and test every primitive. With a BVH only the primitives it leaves
+// out (planes, never culled) are listed: the BVH culls the rest.
 class TileCulling {
 public:
     TileCulling(const CompiledScene& scene, int width, int height) : scene_(scene), width_(width), height_(height) {}
 
-    // The primitives visible in the pixels [x0, x1) × [y0, y1), written into `visible` (reused
+    // The primitives of scene.flat() visible in the pixels [x0, x1) × [y0, y1), written into `visible` (reused
     // storage: no allocation once it has grown).
     void select(int x0, int y0, int x1, int y1, PrimitiveLists& visible) const {
         std::array<Vec3d, 4> corners = {corner(x0, y0), corner(x1, y0), corner(x1, y1), corner(x0, y1)};
@@ -69,8 +70,7 @@ public:
             double inward = math::dot(normals[i], centre) < 0 ? -1.0 : 1.0;
             normals[i] = (inward / length) * normals[i];
         }
-        scene_.primitives.for_each_pair(visible,
-                                        [&](const auto& all, auto& kept) { keep_visible(all, normals, kept); });
+        scene_.flat().for_each_pair(visible, [&](const auto& all, auto& kept) { keep_visible(all, normals, kept); });
     }
 
 private:

@@ -18,14 +18,16 @@ scene::Box as_float_safe_box(const scene::Bounds& bounds) {
 }
 
 // Appends a primitive to the list of its type (at top level, or inside one CSG object) and records its
-// surface for hits.
-void add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int32_t id, float transmission,
-                   std::vector<Leaf>& leaves) {
+// surface for hits; returns where it went.
+BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int32_t id, float transmission,
+                      std::vector<Leaf>& leaves) {
+    BvhItem added{};
     std::visit(
         [&](const auto& shape) {
             using S = std::decay_t<decltype(shape)>;
             if constexpr (scene::is_primitive<S>) {
                 PrimitiveListOf<S>& list = lists.of<S>();
+                added = {list_index_of<S>(), static_cast<std::uint32_t>(list.items.size())};
                 list.items.push_back(make_shape(shape));
                 list.ids.push_back(id);
                 list.transmission.push_back(transmission);
@@ -36,14 +38,24 @@ void add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int3
             }
         },
         object.shape);
+    return added;
+}
+
+bool is_finite(const scene::Bounds& bounds) {
+    for (int axis = 0; axis < 3; ++axis) {
+        if (!std::isfinite(bounds.low[axis]) || !std::isfinite(bounds.high[axis])) {
+            return false;
+        }
+    }
+    return true;
 }
 
 // Compiles the scene moved by −origin_of(scene) in double (each coordinate and plane offset rounded once in
 // double, then once to float), so the float records hold small numbers.
 class Compiler {
 public:
-    explicit Compiler(const scene::Scene& scene)
-        : origin_(origin_of(scene)), scene_(scene::moved(scene, 1, -origin_)) {}
+    Compiler(const scene::Scene& scene, Accel accel)
+        : origin_(origin_of(scene)), scene_(scene::moved(scene, 1, -origin_)), accel_(accel) {}
 
     CompiledScene run() {
         CompiledScene out(scene_);
@@ -55,15 +67,37 @@ public:
                                      static_cast<float>(m.ior)});
         }
         out.leaves.resize(scene_.leaf_paths.size());
+        std::vector<BvhInput> bounded;
+        std::vector<BvhItem> unbounded;
+        // What the choice of a BVH weighs: a CSG object counts as its primitives, since brute force tests its
+        // bound for every packet and evaluates it wherever met.
+        std::size_t bounded_leaves = 0;
         for (const scene::Object& object : scene_.objects) {
+            BvhItem item;
+            scene::Bounds bounds;
+            std::size_t leaves = 1;
             if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
                 CsgObject compiled;
                 add_csg_node(compiled, *csg, out);
-                compiled.bound = make_shape(as_float_safe_box(scene::bounds(object)));
+                scene::Box bound = as_float_safe_box(scene::bounds(object));
+                compiled.bound = make_shape(bound);
+                item = {csg_list, static_cast<std::uint32_t>(out.csg_objects.size())};
+                bounds = {bound.min, bound.max};
+                leaves = compiled.slot_leaf.size();
                 out.csg_objects.push_back(std::move(compiled));
             } else {
-                add_primitive(out.primitives, object, object.leaf, transmission_of(object), out.leaves);
+                item = add_primitive(out.primitives, object, object.leaf, transmission_of(object), out.leaves);
+                bounds = scene::bounds(object);
             }
+            if (is_finite(bounds)) {
+                bounded.push_back({bounds, item});
+                bounded_leaves += leaves;
+            } else {
+                unbounded.push_back(item);
+            }
+        }
+        if (accel_ == Accel::bvh || (accel_ == Accel::automatic && bounded_leaves > bvh_crossover)) {
+            add_bvh(out, bounded, unbounded);
         }
         for (const scene::Light& light : scene_.lights) {
             out.lights.push_back({Vec3(light.position), Color(light.color)});
@@ -80,6 +114,26 @@ public:
     }
 
 private:
+    // The BVH over `bounded`; the rest in the flat lists every ray tests, in their compiled order.
+    static void add_bvh(CompiledScene& out, const std::vector<BvhInput>& bounded,
+                        const std::vector<BvhItem>& unbounded) {
+        out.bvh = build_bvh(bounded);
+        std::uint32_t list_index = 0;
+        out.primitives.for_each_pair(out.unbounded, [&](const auto& all, auto& kept) {
+            for (const BvhItem& item : unbounded) {
+                if (item.list == list_index) {
+                    kept.push_back_from(all, item.index);
+                }
+            }
+            ++list_index;
+        });
+        for (const BvhItem& item : unbounded) {
+            if (item.list == csg_list) {
+                out.unbounded_csg.push_back(static_cast<std::int32_t>(item.index));
+            }
+        }
+    }
+
     float transmission_of(const scene::Object& object) const {
         return static_cast<float>(scene_.materials[static_cast<std::size_t>(object.material)].transmission);
     }
@@ -107,6 +161,7 @@ private:
 
     scene::Vec3 origin_;
     scene::Scene scene_;
+    Accel accel_;
 };
 
 }  // namespace
@@ -128,8 +183,8 @@ scene::Vec3 origin_of(const scene::Scene& scene) {
     return around_eye < around_world_origin ? eye : scene::Vec3{0, 0, 0};
 }
 
-CompiledScene compile(const scene::Scene& scene) {
-    return Compiler(scene).run();
+CompiledScene compile(const scene::Scene& scene, Accel accel) {
+    return Compiler(scene, accel).run();
 }
 
 }  // namespace twinray::sse

@@ -7,6 +7,7 @@
 #include "math/camera.h"
 #include "scene/depth_control.h"
 #include "sse/box.h"
+#include "sse/bvh.h"
 #include "sse/csg.h"
 #include "sse/cylinder.h"
 #include "sse/plane.h"
@@ -15,6 +16,7 @@
 
 #include <cstdint>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -61,6 +63,22 @@ struct PrimitiveList {
 template <typename S>
 using PrimitiveListOf = PrimitiveList<ShapeOf<S>>;
 
+// The position of primitive type S in scene::PrimitiveTypes: its list's BvhItem::list.
+template <typename S>
+constexpr std::uint32_t list_index_of() {
+    std::uint32_t index = 0, found = 0;
+    scene::PrimitiveTypes::for_each([&](auto type) {
+        if (std::is_same_v<typename decltype(type)::type, S>) {
+            found = index;
+        }
+        ++index;
+    });
+    return found;
+}
+
+// BvhItem::list of a CSG object (an index into CompiledScene::csg_objects).
+constexpr std::uint32_t csg_list = scene::PrimitiveTypes::size;
+
 // One list per primitive type, in the order of scene::PrimitiveTypes.
 struct PrimitiveLists {
     scene::PrimitiveTypes::map<PrimitiveListOf>::apply<std::tuple> of_type;
@@ -83,6 +101,11 @@ struct PrimitiveLists {
     void for_each_pair(PrimitiveLists& other, Visit&& visit) const {
         for_each_index(other, visit, std::make_index_sequence<scene::PrimitiveTypes::size>{});
     }
+    // visit(list) for the list at `list_index` in scene::PrimitiveTypes (BvhItem::list).
+    template <typename Visit>
+    void visit_list(std::uint32_t list_index, Visit&& visit) const {
+        visit_at(list_index, visit, std::make_index_sequence<scene::PrimitiveTypes::size>{});
+    }
     bool any_uses_inverse_direction() const {
         bool uses = false;
         for_each([&](const auto& list) {
@@ -93,6 +116,10 @@ struct PrimitiveLists {
     }
 
 private:
+    template <typename Visit, std::size_t... I>
+    void visit_at(std::uint32_t list_index, Visit& visit, std::index_sequence<I...>) const {
+        ((list_index == I ? visit(std::get<I>(of_type)) : void()), ...);
+    }
     template <typename Visit, std::size_t... I>
     void for_each_index(PrimitiveLists& other, Visit& visit, std::index_sequence<I...>) const {
         (visit(std::get<I>(of_type), std::get<I>(other.of_type)), ...);
@@ -142,6 +169,11 @@ struct CompiledScene {
     scene::Vec3 origin;
     PrimitiveLists primitives;  // top-level primitives; ids are leaf indices
     std::vector<CsgObject> csg_objects;
+    // With a BVH (its nodes not empty), the bounded primitives and CSG objects are found through it and only
+    // the rest (planes, unbounded CSG objects) are tested by every ray.
+    Bvh bvh;
+    PrimitiveLists unbounded;
+    std::vector<std::int32_t> unbounded_csg;  // indices into csg_objects, ascending
 
     std::vector<Leaf> leaves;
     std::vector<Material> materials;
@@ -155,8 +187,13 @@ struct CompiledScene {
     bool any_inverse_direction = false;  // boxes, in CSG too, or CSG bounds
 
     math::CameraBasis<float> camera;  // its eye relative to `origin`
+
+    // The primitives every ray tests one by one: all of them, or with a BVH the ones it leaves out.
+    const PrimitiveLists& flat() const { return bvh.empty() ? primitives : unbounded; }
 };
 
-CompiledScene compile(const scene::Scene& scene);
+// `accel`: automatic builds a BVH where the scene has more than bvh_crossover primitives in bounded objects
+// (tracer.h).
+CompiledScene compile(const scene::Scene& scene, Accel accel = Accel::automatic);
 
 }  // namespace twinray::sse

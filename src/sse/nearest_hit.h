@@ -3,6 +3,7 @@
 // translation units (built with -msse4.1) include this.
 #pragma once
 
+#include "sse/bvh_traversal.h"
 #include "sse/compiled_scene.h"
 #include "sse/mutation.h"
 
@@ -14,12 +15,6 @@ namespace twinray::sse {
 
 // Tag bits of a nearest hit: the crossing's tag (face, flipped) plus whether the ray enters there.
 constexpr std::int32_t tag_entering = 0x20;
-
-// Rays in a lane mask (a popcount without relying on the POPCNT instruction, which SSE4.1 lacks).
-inline std::uint64_t lane_count(vbool4 mask) {
-    constexpr std::uint8_t bits[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
-    return bits[movemask(mask)];
-}
 
 // The nearest crossing so far, per lane (per ray).
 struct Nearest4 {
@@ -43,18 +38,20 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
     nearest.tag = select(nearer, tag, nearest.tag);
 }
 
-// Calls visit(span, id, transmission) for every primitive of every type present that some ray meets.
-// Primitives that no ray of the packet meets are skipped before any use of their span: in a coherent
-// packet that is most of them.
+// Calls visit(span, id, transmission, list) for every primitive of every type present that some ray meets
+// (`list`: its type's position in scene::PrimitiveTypes). Primitives that no ray of the packet meets are
+// skipped before any use of their span: in a coherent packet that is most of them.
 template <typename P, typename Visit>
 void for_each_span(const PrimitiveLists& lists, const RayPacket& rays, Visit&& visit) {
+    std::uint32_t list_index = 0;
     lists.for_each([&](const auto& list) {
         for (std::size_t i = 0; i < list.items.size(); ++i) {
             Span4 span = span_of<P>(list.items[i], rays);
             if (any(span.valid)) {
-                visit(span, list.ids[i], list.transmission[i]);
+                visit(span, list.ids[i], list.transmission[i], list_index);
             }
         }
+        ++list_index;
     });
 }
 
@@ -65,7 +62,7 @@ class CsgEvaluation {
 public:
     CsgEvaluation(const CsgObject& object, const RayPacket& rays) : object_(object) {
         std::fill(valid_, valid_ + object.slot_leaf.size(), 0);  // leaves no ray meets are not visited
-        for_each_span<P>(object.leaves, rays, [&](const Span4& span, std::int32_t slot, float) {
+        for_each_span<P>(object.leaves, rays, [&](const Span4& span, std::int32_t slot, float, std::uint32_t) {
             span.enter.store(enter_[slot]);
             span.exit.store(exit_[slot]);
             span.enter_face.store(enter_face_[slot]);
@@ -136,33 +133,45 @@ class NearestHit {
 public:
     explicit NearestHit(const CompiledScene& scene) : scene_(scene) {}
 
-    // `candidates` are the top-level primitives that can be hit: all of them, or for primary rays the
-    // ones a tile can see (TileCulling).
+    // `candidates` are the top-level primitives tested one by one: scene.flat(), or for primary rays the ones
+    // of it a tile can see (TileCulling); with a BVH the rest are found through it. The nearest crossing is
+    // the least (t, leaf) over the primitives met, whatever the order they are met in (keep_nearest).
     Hit4 intersect(RayPacket& rays, const PrimitiveLists& candidates) const {
         if (scene_.any_inverse_direction) {
             rays.template compute_inverse_direction<P>();
         }
         Nearest4 nearest;
-        for_each_span<P>(candidates, rays,
-                         [&](const Span4& span, std::int32_t leaf, float) { keep_nearest(nearest, span, leaf); });
+        auto keep = [&](const Span4& span, std::int32_t leaf, float, std::uint32_t) {
+            keep_nearest(nearest, span, leaf);
+        };
+        for_each_span<P>(candidates, rays, keep);
+        CsgCandidates csg;
+        if (!scene_.bvh.empty()) {
+            csg.collect();
+            vbool4 lanes = rays.active;
+            for_each_leaf_met(scene_.bvh, BvhRays(rays), lanes, nearest.t,
+                              [&](const BvhNode& leaf) { for_each_span_in_leaf<P>(scene_, leaf, rays, csg, keep); });
+        }
         if (!scene_.csg_objects.empty()) {
-            nearest_csg_crossings(rays, nearest);
+            nearest_csg_crossings(rays, nearest, csg);
         }
         return finish(rays, nearest);
     }
 
 private:
-    // Per lane: CSG objects whose bound the ray meets before its nearest hit so far.
-    void nearest_csg_crossings(const RayPacket& rays, Nearest4& nearest) const {
+    // Per lane: CSG objects whose bound the ray meets before its nearest hit so far. With a BVH, the
+    // candidates are the objects whose box some lane met before its nearest primitive: a superset of those
+    // whose bound passes the test below, so the same objects change the answer.
+    void nearest_csg_crossings(const RayPacket& rays, Nearest4& nearest, CsgCandidates& candidates) const {
         alignas(16) float t[4];
         alignas(16) std::int32_t leaf[4], tag[4];
         nearest.t.store(t);
         nearest.leaf.store(leaf);
         nearest.tag.store(tag);
-        for (const CsgObject& object : scene_.csg_objects) {
+        candidates.for_each(scene_, [&](const CsgObject& object) {
             int lanes = lanes_meeting_bound<P>(object, rays, vfloat4::load(t));
             if (lanes == 0) {
-                continue;
+                return;
             }
             CsgEvaluation<P> evaluation(object, rays);
             for (int lane = 0; lane < 4; ++lane) {
@@ -186,7 +195,7 @@ private:
                     break;
                 }
             }
-        }
+        });
         nearest.t = vfloat4::load(t);
         nearest.leaf = vint4::load(leaf);
         nearest.tag = vint4::load(tag);

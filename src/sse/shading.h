@@ -56,12 +56,12 @@ public:
     Hit4 intersect(RayPacket& rays, const PrimitiveLists& candidates) const {
         return nearest_hit_.intersect(rays, candidates);
     }
-    Hit4 intersect(RayPacket& rays) const { return intersect(rays, scene_.primitives); }
+    Hit4 intersect(RayPacket& rays) const { return intersect(rays, scene_.flat()); }
 
     // `walk.tree`, if given, records lane 0's ray as a `kind` child of node `parent`, and all it spawns.
     Vec3x4 trace(RayPacket& rays, int depth, const LaneShares& shares, PacketWalk& walk,
                  RayKind kind = RayKind::primary, int parent = -1) const {
-        return trace(rays, scene_.primitives, depth, shares, walk, kind, parent);
+        return trace(rays, scene_.flat(), depth, shares, walk, kind, parent);
     }
 
     Vec3x4 trace(RayPacket& rays, const PrimitiveLists& candidates, int depth, const LaneShares& shares,

@@ -5,7 +5,48 @@
 #include "sse/mutation.h"
 #include "sse/nearest_hit.h"
 
+#include <algorithm>
+
 namespace twinray::sse {
+
+// The crossings of a packet's shadow rays through primitives found in any order (through the BVH), to be
+// multiplied in brute force's order, (type list, id): float multiplication is not associative, and this keeps
+// the product the same bit for bit. A primitive no lane crosses would multiply by exactly 1, so it is left
+// out. Past `capacity` crossings (no heap allocation per ray) the caller falls back to brute force.
+class TransmissionFactors {
+public:
+    static constexpr int capacity = 128;
+    struct Factor {
+        std::uint32_t list;
+        std::int32_t id;  // increasing with the position in its list
+        vbool4 enter_between, exit_between;
+        float transmission;
+    };
+
+    void add(const Factor& factor) {
+        if (count_ < capacity) {
+            factors_[count_++] = factor;
+        } else {
+            overflowed_ = true;
+        }
+    }
+    bool overflowed() const { return overflowed_; }
+
+    template <typename Visit>
+    void for_each_in_list_order(Visit&& visit) {
+        std::sort(factors_, factors_ + count_, [](const Factor& a, const Factor& b) {
+            return a.list < b.list || (a.list == b.list && a.id < b.id);
+        });
+        for (int i = 0; i < count_; ++i) {
+            visit(factors_[i]);
+        }
+    }
+
+private:
+    Factor factors_[capacity];
+    int count_ = 0;
+    bool overflowed_ = false;
+};
 
 // Model only what the scene requires: without transparent materials a shadow ray stops at its first
 // blocker (any crossing at all closes the lane); with them, transmissions multiply along the ray.
@@ -33,23 +74,60 @@ public:
             enter_between = span.valid & (span.enter > zero) & (span.enter < distance);
             exit_between = span.valid & (span.exit > zero) & (span.exit < distance);
         };
+        CsgCandidates csg;
         if (!scene_.any_transparency) {
-            for_each_span<P>(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float) {
+            auto block = [&](const Span4& span, std::int32_t, float, std::uint32_t) {
                 if (none(open)) {
                     return;
                 }
                 vbool4 enter_between, exit_between;
                 crossings_between(span, enter_between, exit_between);
                 open = open & !(enter_between | exit_between);
-            });
+            };
+            for_each_span<P>(scene_.flat(), rays, block);
+            if (!scene_.bvh.empty() && any(open)) {
+                csg.collect();
+                for_each_leaf_met(scene_.bvh, BvhRays(rays), open, distance, [&](const BvhNode& leaf) {
+                    for_each_span_in_leaf<P>(scene_, leaf, rays, csg, block);
+                });
+            }
         } else {
-            for_each_span<P>(scene_.primitives, rays, [&](const Span4& span, std::int32_t, float transmission) {
-                vbool4 enter_between, exit_between;
-                crossings_between(span, enter_between, exit_between);
+            auto multiply = [&](vbool4 enter_between, vbool4 exit_between, float transmission) {
                 vfloat4 surface(mutated<Mutant::shadow_transmission_ignored> ? 1.0f : transmission);
                 transmittance =
                     transmittance * select(enter_between, surface, one) * select(exit_between, surface, one);
-            });
+            };
+            bool multiplied = false;
+            if (!scene_.bvh.empty()) {
+                TransmissionFactors factors;
+                auto record = [&](const Span4& span, std::int32_t id, float transmission, std::uint32_t list) {
+                    vbool4 enter_between, exit_between;
+                    crossings_between(span, enter_between, exit_between);
+                    if (any(enter_between | exit_between)) {
+                        factors.add({list, id, enter_between, exit_between, transmission});
+                    }
+                };
+                for_each_span<P>(scene_.flat(), rays, record);
+                csg.collect();
+                vbool4 all_lanes = lanes;
+                for_each_leaf_met(scene_.bvh, BvhRays(rays), all_lanes, distance, [&](const BvhNode& leaf) {
+                    for_each_span_in_leaf<P>(scene_, leaf, rays, csg, record);
+                });
+                if (!factors.overflowed()) {
+                    factors.for_each_in_list_order([&](const TransmissionFactors::Factor& factor) {
+                        multiply(factor.enter_between, factor.exit_between, factor.transmission);
+                    });
+                    multiplied = true;
+                }
+            }
+            if (!multiplied) {
+                for_each_span<P>(scene_.primitives, rays,
+                                 [&](const Span4& span, std::int32_t, float transmission, std::uint32_t) {
+                                     vbool4 enter_between, exit_between;
+                                     crossings_between(span, enter_between, exit_between);
+                                     multiply(enter_between, exit_between, transmission);
+                                 });
+            }
             open = open & (transmittance > zero);
         }
         transmittance = select(open, transmittance, zero);
@@ -58,10 +136,10 @@ public:
         }
         alignas(16) float product[4];
         transmittance.store(product);
-        for (const CsgObject& object : scene_.csg_objects) {
+        csg.for_each(scene_, [&](const CsgObject& object) {
             int met = lanes_meeting_bound<P>(object, rays, distance) & movemask(open);
             if (met == 0) {
-                continue;
+                return;
             }
             CsgEvaluation<P> evaluation(object, rays);
             alignas(16) float limit[4];
@@ -80,7 +158,7 @@ public:
                     }
                 }
             }
-        }
+        });
         return vfloat4::load(product);
     }
 

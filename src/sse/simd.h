@@ -141,6 +141,12 @@ inline bool none(vbool4 a) {
     return movemask(a) == 0;
 }
 
+// Rays in a lane mask (a popcount without relying on the POPCNT instruction, which SSE4.1 lacks).
+inline std::uint64_t lane_count(vbool4 mask) {
+    constexpr std::uint8_t bits[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+    return bits[movemask(mask)];
+}
+
 // Lane-wise `mask ? a : b` (SSE4.1 blendv).
 inline vfloat4 select(vbool4 mask, vfloat4 a, vfloat4 b) {
     return vfloat4(_mm_blendv_ps(b.m, a.m, mask.m));

@@ -106,8 +106,8 @@ std::string precision_name(const Precision& precision) {
     return name.empty() ? "exact" : name;
 }
 
-Tracer::Tracer(const scene::Scene& scene, const Precision& precision)
-    : scene_(std::make_unique<CompiledScene>(compile(scene))), precision_(precision) {
+Tracer::Tracer(const scene::Scene& scene, const Precision& precision, Accel accel)
+    : scene_(std::make_unique<CompiledScene>(compile(scene, accel))), precision_(precision) {
     with_precision_policy(precision, [](auto) {});  // refuses a combination that is not built
 }
 
@@ -175,7 +175,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
 
 RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer tracer(scene, precision);
+    Tracer tracer(scene, precision, options.accel);
     Image image(size.width, size.height);
     const auto start = std::chrono::steady_clock::now();
     TraceTally tally = with_precision_policy(precision, [&](auto policy) {
@@ -216,7 +216,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
 
 FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer tracer(scene, precision);
+    Tracer tracer(scene, precision, options.accel);
     std::uint64_t hits = with_precision_policy(precision, [&](auto policy) {
         using P = decltype(policy);
         PacketTracer<P> packets(tracer.compiled());

@@ -12,6 +12,7 @@
 #include "scene/scene.h"
 #include "sse/vec3.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -58,6 +59,11 @@ std::string built_precisions();
 // "exact", or the knobs joined by '+' ("rcp+rsqrt+ftz").
 std::string precision_name(const Precision& precision);
 
+// With Accel::automatic (render/render.h) the tracer builds its BVH (docs/sse-tracer.md) where the scene has
+// more than bvh_crossover primitives in bounded objects (a CSG object counts as its primitives), the count
+// from which it measured faster (docs/performance.md, "The BVH").
+constexpr std::size_t bvh_crossover = 64;
+
 // The point the tracer compiles a scene relative to, in double (re-basing, docs/numerics.md): the eye
 // where that makes the scene's coordinates smaller than the world's origin does (then every number the
 // float kernels see is a distance from the camera), else the world's origin. Results are translated back.
@@ -67,7 +73,7 @@ struct CompiledScene;
 
 class Tracer {
 public:
-    explicit Tracer(const scene::Scene& scene, const Precision& precision = {});
+    explicit Tracer(const scene::Scene& scene, const Precision& precision = {}, Accel accel = Accel::automatic);
     ~Tracer();
     Tracer(const Tracer&) = delete;
     Tracer& operator=(const Tracer&) = delete;

@@ -1,0 +1,62 @@
+// A bounding volume hierarchy over the bounded top-level items of the compiled scene (each primitive by its
+// box, each CSG object by its bound); planes and anything else unbounded stay in flat lists. Binary, built by
+// binned SAH on one thread, deterministic: the same scene gives the same node array on any machine and for
+// any thread count (no unordered containers, stable partitions, ties to the lower axis, bin and index).
+// Plain C++ (no intrinsics): the build runs in double; the traversal is in bvh_traversal.h.
+#pragma once
+
+#include "scene/geometry.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace twinray::sse {
+
+// Which top-level item a leaf holds: `list` is a type's position in scene::PrimitiveTypes (its list in
+// PrimitiveLists) or `csg_list` for a CSG object; `index` is its place in that list.
+struct BvhItem {
+    std::uint32_t list;
+    std::uint32_t index;
+    bool operator==(const BvhItem&) const = default;
+};
+
+// 32 bytes, 16-byte aligned, so that each half loads as one __m128. An inner node (count 0) has its two
+// children at `first` and `first + 1`; a leaf holds items[first, first + count).
+struct alignas(16) BvhNode {
+    float low[3];
+    std::uint32_t first;
+    float high[3];
+    std::uint32_t count;
+    bool operator==(const BvhNode&) const = default;
+};
+
+// A leaf is at most this deep (the root is depth 0), so a traversal stack of bvh_max_depth + 1 entries never
+// overflows, whatever the scene: the build switches from SAH to halving splits where the depth left runs short.
+constexpr int bvh_max_depth = 64;
+
+// What the build needs of one item: its bounds in the compiled scene's coordinates (double, finite).
+struct BvhInput {
+    scene::Bounds bounds;
+    BvhItem item;
+};
+
+struct Bvh {
+    std::vector<BvhNode> nodes;  // nodes[0] is the root; empty: no BVH
+    std::vector<BvhItem> items;  // leaves' items, in leaf order
+
+    bool empty() const { return nodes.empty(); }
+};
+
+// Box tests stay conservative against the float kernels (docs/sse-tracer.md, "The BVH"): every box is padded
+// outward by this share of its largest |coordinate| before it is rounded outward to float, and every ray's
+// origin by the same share of its own (bvh_traversal.h). 2⁻¹³ is 2048 float ulps, far beyond any kernel's
+// rounding of a hit point (a few ulps of the distances involved).
+constexpr double bvh_padding = 1.0 / 8192.0;
+
+// `inputs` in the order the leaves' items should keep among equals (the compiled lists' order).
+Bvh build_bvh(const std::vector<BvhInput>& inputs);
+
+// Bytes of nodes and items.
+std::size_t bvh_bytes(const Bvh& bvh);
+
+}  // namespace twinray::sse

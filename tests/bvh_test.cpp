@@ -1,0 +1,411 @@
+// The SSE tracer's BVH changes no answer: on generated scenes and on the scenes that are hard for a BVH
+// (heavy overlap, coincident primitives, everything at one point or on one line, radii from 1e-4 to 1e4, CSG
+// objects among thousands of primitives, transparent shadows), every ray gets the same nearest object and
+// the same t bit for bit, and every image is the same bit for bit, as brute force; the tree is the same
+// every time it is built, and no deeper than its traversal stack. Built with -msse4.1: it reads the compiled
+// scene's node array.
+#include "cli/generate_scene.h"
+#include "reference/tracer.h"
+#include "render/render.h"
+#include "scene/loader.h"
+#include "scene/portable_random.h"
+#include "sse/compiled_scene.h"
+#include "sse/cpu.h"
+#include "sse/tracer.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using twinray::Accel;
+using twinray::RenderOptions;
+using twinray::RenderResult;
+using twinray::SplitMix64;
+using twinray::scene::Scene;
+
+Scene generated(const std::string& family, int size) {
+    std::string text;
+    twinray::cli::generate_scene(family, size, 1, [&](std::string_view piece) { text.append(piece); });
+    return twinray::scene::parse_scene(text, family);
+}
+
+// A scene of the given objects (JSON, one per element) over a floor, with opaque, mirror and glass materials
+// so that shadow, reflected and refracted rays all run, and two lights.
+Scene scene_of(const std::vector<std::string>& objects, const std::string& eye = "[0, 6, 30]") {
+    std::string text = R"({"format": "twinray-scene/1", "image": {"width": 96, "height": 72},
+      "camera": {"eye": )" +
+                       eye + R"(, "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 50},
+      "max_depth": 3,
+      "materials": {
+        "matte": {"color": [0.8, 0.3, 0.2], "diffuse": 0.8, "phong": 0.3, "phong_size": 20},
+        "mirror": {"color": [0.9, 0.9, 0.9], "diffuse": 0.2, "reflection": 0.6},
+        "glass": {"color": [1, 1, 1], "diffuse": 0.05, "reflection": 0.1, "transmission": 0.8, "ior": 1.5}},
+      "lights": [{"position": [-20, 30, 20], "color": [0.8, 0.8, 0.8]},
+                 {"position": [15, 10, 25], "color": [0.4, 0.4, 0.5]}],
+      "objects": [{"type": "plane", "normal": [0, 1, 0], "offset": -12, "material": "matte"})";
+    for (const std::string& object : objects) {
+        text += ",\n" + object;
+    }
+    text += "]}";
+    return twinray::scene::parse_scene(text, "bvh_test");
+}
+
+const char* material_of(std::size_t i) {
+    static const char* materials[] = {"matte", "mirror", "glass"};
+    return materials[i % 3];
+}
+
+std::string sphere(double x, double y, double z, double radius, std::size_t i) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  R"({"type": "sphere", "center": [%.17g, %.17g, %.17g], "radius": %.17g, "material": "%s"})", x, y, z,
+                  radius, material_of(i));
+    return text;
+}
+
+std::string box(double x, double y, double z, double half, std::size_t i) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  R"({"type": "box", "min": [%.17g, %.17g, %.17g], "max": [%.17g, %.17g, %.17g], "material": "%s"})",
+                  x - half, y - half, z - half, x + half, y + half, z + half, material_of(i));
+    return text;
+}
+
+std::string cylinder(double x, double y, double z, double length, double radius, std::size_t i) {
+    char text[320];
+    std::snprintf(
+        text, sizeof text,
+        R"({"type": "cylinder", "base": [%.17g, %.17g, %.17g], "cap": [%.17g, %.17g, %.17g], "radius": %.17g, "material": "%s"})",
+        x, y, z, x + length, y + 0.5 * length, z, radius, material_of(i));
+    return text;
+}
+
+// The hard cases, each over the bvh crossover.
+std::vector<std::pair<std::string, Scene>> hard_scenes() {
+    std::vector<std::pair<std::string, Scene>> scenes;
+    std::vector<std::string> objects;
+    // A spiral of 2 000 spheres, each overlapping dozens of its neighbours.
+    for (std::size_t i = 0; i < 2000; ++i) {
+        double angle = 0.02 * static_cast<double>(i);
+        objects.push_back(
+            sphere(8 * std::cos(angle), -10 + 0.01 * static_cast<double>(i), 8 * std::sin(angle), 1.5, i));
+    }
+    scenes.emplace_back("overlapping spiral", scene_of(objects));
+    objects.clear();
+    // 300 copies each of one sphere, one box and one cylinder: every tie goes to the earliest.
+    for (std::size_t i = 0; i < 300; ++i) {
+        objects.push_back(sphere(-3, 0, 0, 2, i));
+        objects.push_back(box(3, 0, 0, 1.5, i));
+        objects.push_back(cylinder(0, -4, 2, 3, 1, i));
+    }
+    scenes.emplace_back("coincident primitives", scene_of(objects));
+    objects.clear();
+    // 500 primitives around one point: no split separates them.
+    for (std::size_t i = 0; i < 500; ++i) {
+        double size = 0.5 + 0.01 * static_cast<double>(i);
+        objects.push_back(i % 2 == 0 ? sphere(1, 2, 3, size, i) : box(1, 2, 3, size, i));
+    }
+    scenes.emplace_back("all at one point", scene_of(objects));
+    objects.clear();
+    // 1 000 spheres and boxes on one line, along the view.
+    for (std::size_t i = 0; i < 1000; ++i) {
+        double z = 20 - 0.05 * static_cast<double>(i);
+        objects.push_back(i % 3 == 0 ? box(0.5, 0.5, z, 0.3, i) : sphere(0.5, 0.5, z, 0.4, i));
+    }
+    scenes.emplace_back("all on one line", scene_of(objects));
+    objects.clear();
+    // Radii from 1e-4 to 1e4: a huge sphere the camera sits far outside of, tiny ones in front of it.
+    SplitMix64 random(7);
+    for (std::size_t i = 0; i < 1500; ++i) {
+        double radius = std::pow(10.0, random.uniform(-4, 0.5));
+        objects.push_back(sphere(random.uniform(-8, 8), random.uniform(-8, 8), random.uniform(-8, 8), radius, i));
+    }
+    objects.push_back(sphere(0, 0, -10030, 1e4, 0));
+    objects.push_back(sphere(0.01, 0.02, 5, 1e-4, 1));
+    scenes.emplace_back("radii 1e-4 to 1e4", scene_of(objects));
+    objects.clear();
+    // CSG objects among 3 000 primitives, some of them unbounded (an intersection with a half-space box of
+    // a plane is not possible; a difference from a plane is).
+    for (std::size_t i = 0; i < 3000; ++i) {
+        objects.push_back(sphere(random.uniform(-9, 9), random.uniform(-9, 9), random.uniform(-9, 9), 0.3, i));
+    }
+    for (std::size_t i = 0; i < 40; ++i) {
+        double x = random.uniform(-8, 8), y = random.uniform(-8, 8), z = random.uniform(-8, 8);
+        objects.push_back(R"({"type": "difference", "material": ")" + std::string(material_of(i)) +
+                          R"(", "children": [)" + box(x, y, z, 1, i) + ", " +
+                          sphere(x + 0.5, y + 0.5, z + 0.5, 0.9, i) + "]}");
+    }
+    objects.push_back(
+        R"({"type": "difference", "material": "glass", "children": [{"type": "plane", "normal": [0, 0, 1], "offset": -9}, )" +
+        sphere(0, 0, -9, 3, 0) + "]}");
+    scenes.emplace_back("CSG among thousands", scene_of(objects));
+    objects.clear();
+    // 100 CSG objects at one place, among 300 spheres: more than a packet's CSG candidates hold (64).
+    for (std::size_t i = 0; i < 100; ++i) {
+        objects.push_back(R"({"type": "difference", "material": ")" + std::string(material_of(i)) +
+                          R"(", "children": [)" + box(0, 0, 0, 3, i) + ", " + sphere(1, 1, 1, 2.5, i) + "]}");
+        for (std::size_t j = 0; j < 3; ++j) {
+            objects.push_back(sphere(random.uniform(-9, 9), random.uniform(-9, 9), random.uniform(-9, 9), 0.5, j));
+        }
+    }
+    scenes.emplace_back("coincident CSG objects", scene_of(objects));
+    return scenes;
+}
+
+RenderResult render(const Scene& scene, Accel accel, int threads = 2) {
+    RenderOptions options;
+    options.threads = threads;
+    options.accel = accel;
+    return twinray::sse::render(scene, options, {});
+}
+
+bool same_bits(const RenderResult& a, const RenderResult& b) {
+    const auto& pa = a.image.pixels();
+    const auto& pb = b.image.pixels();
+    return pa.size() == pb.size() && std::memcmp(pa.data(), pb.data(), pa.size() * sizeof(pa[0])) == 0;
+}
+
+void expect_images_identical(const std::string& name, const Scene& scene) {
+    auto start = std::chrono::steady_clock::now();
+    RenderResult brute = render(scene, Accel::none);
+    double brute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    start = std::chrono::steady_clock::now();
+    RenderResult bvh = render(scene, Accel::bvh);
+    double bvh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_TRUE(same_bits(brute, bvh)) << name;
+    EXPECT_EQ(brute.tally.rays, bvh.tally.rays) << name;
+    std::printf("%-24s %9llu rays  brute force %.3f s  bvh %.3f s\n", name.c_str(),
+                static_cast<unsigned long long>(bvh.tally.rays), brute_seconds, bvh_seconds);
+}
+
+class Bvh : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!twinray::sse::cpu_supports_sse41()) {
+            GTEST_SKIP() << "the SSE tracer needs SSE4.1";
+        }
+    }
+};
+
+TEST_F(Bvh, ImagesOfGeneratedScenesAreBitIdenticalToBruteForce) {
+    for (const char* family : {"fractal", "field", "lattice", "csg"}) {
+        Scene scene = generated(family, 3000);
+        scene.width = 96;
+        scene.height = 64;
+        expect_images_identical(family, scene);
+    }
+}
+
+TEST_F(Bvh, ImagesOfHardScenesAreBitIdenticalToBruteForce) {
+    for (const auto& [name, scene] : hard_scenes()) {
+        expect_images_identical(name, scene);
+    }
+}
+
+// Random rays from inside and around each scene, through the per-ray API: the same hit, t, leaf and
+// normal bit for bit, and the same colour of the whole ray tree (shadow, reflected and refracted rays).
+TEST_F(Bvh, EveryRayFindsTheSameNearestHitAsBruteForce) {
+    std::vector<std::pair<std::string, Scene>> scenes = hard_scenes();
+    scenes.emplace_back("field", generated("field", 3000));
+    scenes.emplace_back("csg", generated("csg", 3000));
+    SplitMix64 random(11);
+    for (const auto& [name, scene] : scenes) {
+        twinray::sse::Tracer brute(scene, {}, Accel::none);
+        twinray::sse::Tracer bvh(scene, {}, Accel::bvh);
+        ASSERT_FALSE(bvh.compiled().bvh.empty()) << name;
+        int hits = 0;
+        for (int i = 0; i < 4000; ++i) {
+            twinray::Vec3d origin(random.uniform(-12, 12), random.uniform(-12, 12), random.uniform(-12, 25));
+            twinray::Vec3d direction(random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-1, 1));
+            direction = (1.0 / std::sqrt(twinray::math::dot(direction, direction))) * direction;
+            twinray::sse::Ray ray{origin, twinray::sse::Vec3(direction)};
+            std::optional<twinray::sse::Hit> a = brute.intersect(ray);
+            std::optional<twinray::sse::Hit> b = bvh.intersect(ray);
+            ASSERT_EQ(a.has_value(), b.has_value()) << name << " ray " << i;
+            if (a) {
+                ++hits;
+                EXPECT_EQ(a->leaf, b->leaf) << name << " ray " << i;
+                EXPECT_EQ(std::memcmp(&a->t, &b->t, sizeof(float)), 0) << name << " ray " << i;
+                EXPECT_EQ(std::memcmp(&a->normal, &b->normal, sizeof(a->normal)), 0) << name << " ray " << i;
+            }
+            twinray::sse::Color ca = brute.trace(ray, 1);
+            twinray::sse::Color cb = bvh.trace(ray, 1);
+            EXPECT_EQ(std::memcmp(&ca, &cb, sizeof(ca)), 0) << name << " ray " << i;
+        }
+        std::printf("%-24s 4000 rays, %d hits, all equal\n", name.c_str(), hits);
+    }
+}
+
+TEST_F(Bvh, FastPrecisionImagesAreBitIdenticalWithAndWithoutBvh) {
+    Scene scene = generated("csg", 2000);
+    scene.width = 96;
+    scene.height = 64;
+    twinray::sse::Precision fast{true, true, false, true, true};
+    RenderOptions options;
+    options.threads = 2;
+    options.accel = Accel::none;
+    RenderResult brute = twinray::sse::render(scene, options, fast);
+    options.accel = Accel::bvh;
+    EXPECT_TRUE(same_bits(brute, twinray::sse::render(scene, options, fast)));
+}
+
+TEST_F(Bvh, BuildIsDeterministicAndRenderingIsTheSameOnAnyThreadCount) {
+    Scene scene = generated("fractal", 7000);
+    twinray::sse::CompiledScene first = twinray::sse::compile(scene, Accel::bvh);
+    twinray::sse::CompiledScene second = twinray::sse::compile(scene, Accel::bvh);
+    EXPECT_FALSE(first.bvh.empty());
+    EXPECT_EQ(first.bvh.nodes, second.bvh.nodes);
+    EXPECT_EQ(first.bvh.items, second.bvh.items);
+    scene.width = 96;
+    scene.height = 64;
+    EXPECT_TRUE(same_bits(render(scene, Accel::bvh, 1), render(scene, Accel::bvh, 2)));
+}
+
+int depth_of(const twinray::sse::Bvh& bvh) {
+    struct Pending {
+        std::uint32_t node;
+        int depth;
+    };
+    std::vector<Pending> stack{{0, 0}};
+    int deepest = 0;
+    while (!stack.empty()) {
+        Pending pending = stack.back();
+        stack.pop_back();
+        deepest = std::max(deepest, pending.depth);
+        const twinray::sse::BvhNode& node = bvh.nodes[pending.node];
+        if (node.count == 0) {
+            stack.push_back({node.first, pending.depth + 1});
+            stack.push_back({node.first + 1, pending.depth + 1});
+        }
+    }
+    return deepest;
+}
+
+// Every item in exactly one leaf, every leaf within the traversal stack's depth, every child's box inside
+// its parent's.
+TEST_F(Bvh, TreeHoldsEveryItemOnceAndStaysWithinItsDepth) {
+    for (const auto& [name, scene] : hard_scenes()) {
+        twinray::sse::CompiledScene compiled = twinray::sse::compile(scene, Accel::bvh);
+        const twinray::sse::Bvh& bvh = compiled.bvh;
+        std::size_t in_leaves = 0;
+        for (const twinray::sse::BvhNode& node : bvh.nodes) {
+            in_leaves += node.count;
+            if (node.count == 0) {
+                for (std::uint32_t child = node.first; child < node.first + 2; ++child) {
+                    for (int axis = 0; axis < 3; ++axis) {
+                        EXPECT_LE(node.low[axis], bvh.nodes[child].low[axis]) << name;
+                        EXPECT_GE(node.high[axis], bvh.nodes[child].high[axis]) << name;
+                    }
+                }
+            }
+        }
+        EXPECT_EQ(in_leaves, bvh.items.size()) << name;
+        int depth = depth_of(bvh);
+        EXPECT_LE(depth, twinray::sse::bvh_max_depth) << name;
+        std::printf("%-24s %zu items, %zu nodes, depth %d, %zu bytes\n", name.c_str(), bvh.items.size(),
+                    bvh.nodes.size(), depth, twinray::sse::bvh_bytes(bvh));
+    }
+}
+
+TEST_F(Bvh, AutomaticBuildsOneOnlyAboveTheCrossover) {
+    std::vector<std::string> objects;
+    for (std::size_t i = 0; i < twinray::sse::bvh_crossover; ++i) {
+        objects.push_back(sphere(static_cast<double>(i), 0, 0, 0.4, i));
+    }
+    EXPECT_TRUE(twinray::sse::compile(scene_of(objects), Accel::automatic).bvh.empty());
+    objects.push_back(sphere(-1, 0, 0, 0.4, 0));
+    EXPECT_FALSE(twinray::sse::compile(scene_of(objects), Accel::automatic).bvh.empty());
+    EXPECT_TRUE(twinray::sse::compile(scene_of(objects), Accel::none).bvh.empty());
+}
+
+}  // namespace
+
+// The build's cost and size at each scale (docs/performance.md, "The BVH"): the time compile() takes with
+// the BVH over without it, and the bytes of nodes and leaf items per bounded object, at most 64 (issue 13).
+TEST_F(Bvh, BuildTimeAndBytesPerPrimitiveAtEachScale) {
+    auto seconds_to_compile = [](const Scene& scene, Accel accel) {
+        double best = 1e30;
+        for (int run = 0; run < 3; ++run) {
+            auto start = std::chrono::steady_clock::now();
+            twinray::sse::CompiledScene compiled = twinray::sse::compile(scene, accel);
+            best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        }
+        return best;
+    };
+    for (const char* family : {"field", "fractal"}) {
+        for (int size : {100, 1000, 10000, 100000}) {
+            Scene scene = generated(family, size);
+            twinray::sse::CompiledScene compiled = twinray::sse::compile(scene, Accel::bvh);
+            std::size_t items = compiled.bvh.items.size();
+            double bytes_per_item =
+                static_cast<double>(twinray::sse::bvh_bytes(compiled.bvh)) / static_cast<double>(items);
+            double without = seconds_to_compile(scene, Accel::none);
+            double build = seconds_to_compile(scene, Accel::bvh) - without;
+            std::printf(
+                "%-8s %7zu bounded: %7zu nodes, %5.1f bytes each; compile %7.2f ms, + build %7.2f ms (%.2f M/s)\n",
+                family, items, compiled.bvh.nodes.size(), bytes_per_item, without * 1e3, build * 1e3,
+                static_cast<double>(items) / build / 1e6);
+            EXPECT_LE(bytes_per_item, 64.0) << family << " " << size;
+        }
+    }
+}
+
+// The reference's own BVH (reference/bvh.h): the same images bit for bit, in double and in float, and
+// the same hit, t, leaf and colour for random rays, as the reference testing every object.
+TEST(ReferenceBvh, ImagesAreBitIdenticalWithAndWithoutIt) {
+    std::vector<std::pair<std::string, Scene>> scenes = hard_scenes();
+    scenes.emplace_back("csg", generated("csg", 1000));
+    scenes.emplace_back("lattice", generated("lattice", 1000));
+    for (auto& [name, scene] : scenes) {
+        RenderOptions options;
+        options.threads = 2;
+        options.width = 32;
+        options.height = 24;
+        options.accel = Accel::none;
+        auto start = std::chrono::steady_clock::now();
+        RenderResult brute = twinray::reference::render<double>(scene, options);
+        double brute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        RenderResult brute_float = twinray::reference::render<float>(scene, options);
+        options.accel = Accel::bvh;
+        start = std::chrono::steady_clock::now();
+        RenderResult bvh = twinray::reference::render<double>(scene, options);
+        double bvh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        EXPECT_TRUE(same_bits(brute, bvh)) << name;
+        EXPECT_EQ(brute.tally.rays, bvh.tally.rays) << name;
+        EXPECT_TRUE(same_bits(brute_float, twinray::reference::render<float>(scene, options))) << name << " (float)";
+        std::printf("%-24s %7llu rays  reference<double> brute force %.3f s  bvh %.3f s\n", name.c_str(),
+                    static_cast<unsigned long long>(bvh.tally.rays), brute_seconds, bvh_seconds);
+    }
+}
+
+TEST(ReferenceBvh, EveryRayFindsTheSameNearestHitAsWithoutIt) {
+    SplitMix64 random(13);
+    for (const auto& [name, scene] : hard_scenes()) {
+        twinray::reference::Tracer<double> brute(scene, Accel::none);
+        twinray::reference::Tracer<double> bvh(scene, Accel::bvh);
+        for (int i = 0; i < 1000; ++i) {
+            twinray::Vec3d origin(random.uniform(-12, 12), random.uniform(-12, 12), random.uniform(-12, 25));
+            twinray::Vec3d direction(random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-1, 1));
+            twinray::reference::Ray<double> ray{
+                origin, (1.0 / std::sqrt(twinray::math::dot(direction, direction))) * direction};
+            auto a = brute.intersect(ray);
+            auto b = bvh.intersect(ray);
+            ASSERT_EQ(a.has_value(), b.has_value()) << name << " ray " << i;
+            if (a) {
+                EXPECT_EQ(a->leaf, b->leaf) << name << " ray " << i;
+                EXPECT_EQ(std::memcmp(&a->t, &b->t, sizeof(double)), 0) << name << " ray " << i;
+            }
+            twinray::Vec3d ca = brute.trace(ray, 1);
+            twinray::Vec3d cb = bvh.trace(ray, 1);
+            EXPECT_EQ(std::memcmp(&ca, &cb, sizeof(ca)), 0) << name << " ray " << i;
+        }
+    }
+}
