@@ -167,6 +167,13 @@ Json report_json(const scene::Scene& scene, const std::string& scene_path, const
     }
     json["divergence"] = findings.divergences.empty() ? Json() : all.front();
     json["divergences"] = all;
+    if (findings.sse) {
+        json["cause"] = {{"class", accuracy::cause_name(findings.cause.cause)},
+                         {"what", findings.cause.what},
+                         {"depth", findings.cause.depth},
+                         {"deviation", findings.cause.deviation},
+                         {"band", findings.cause.band}};
+    }
     return json;
 }
 

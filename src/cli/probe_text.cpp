@@ -272,6 +272,21 @@ void print_dropped(const TracedTree& traced) {
     }
 }
 
+// Why the trees differ (accuracy/attribution.h), the ray's deviation and its band also in float ulps (u = 2⁻²⁴).
+void print_cause(const accuracy::PixelCause& cause) {
+    std::printf("why: %s", accuracy::cause_name(cause.cause));
+    if (!cause.what.empty()) {
+        std::printf(" (%s", cause.what.c_str());
+        if (cause.depth > 0) {
+            constexpr double ulp = 0x1p-24;
+            std::printf(" at depth %d: the ray is %.2g rad = %.0f u off the reference's, band %.2g rad = %.0f u",
+                        cause.depth, cause.deviation, cause.deviation / ulp, cause.band, cause.band / ulp);
+        }
+        std::printf(")");
+    }
+    std::printf("; docs/conformance.md, \"Why a pixel differs\"\n");
+}
+
 }  // namespace
 
 void print_text(const scene::Scene& scene, const std::string& scene_path, const Target& target,
@@ -284,6 +299,7 @@ void print_text(const scene::Scene& scene, const std::string& scene_path, const 
     }
     if (findings.sse) {
         print_verdict(scene, findings);
+        print_cause(findings.cause);
     }
 }
 

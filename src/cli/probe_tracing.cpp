@@ -34,10 +34,12 @@ TracedTree trace_sse(const scene::Scene& scene, const Target& target, Accel acce
 }  // namespace
 
 Findings trace_target(const scene::Scene& scene, const Target& target, Accel accel) {
-    Findings findings{trace_reference(scene, target, accel), std::nullopt, "", {}, {}};
+    Findings findings{trace_reference(scene, target, accel), std::nullopt, "", {}, {}, {}};
     if (sse::cpu_supports_sse41()) {
         findings.sse = trace_sse(scene, target, accel);
         findings.divergences = find_divergences(findings.reference.tree, findings.sse->tree, findings.limits);
+        reference::Tracer<double> replaying(scene);
+        findings.cause = accuracy::attribute(scene, replaying, findings.reference.tree, findings.sse->tree);
     } else {
         findings.sse_note = "sse not run: " + sse::missing_sse41_message();
     }

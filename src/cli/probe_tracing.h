@@ -1,6 +1,7 @@
 // `twinray probe`'s tracing: the target traced by each tracer into a ray tree, and where the trees part.
 #pragma once
 
+#include "accuracy/attribution.h"
 #include "cli/probe_arguments.h"
 #include "render/ray_tree.h"
 #include "scene/scene.h"
@@ -24,6 +25,7 @@ struct Findings {
     std::string sse_note;
     DivergenceThresholds limits;
     std::vector<Divergence> divergences;  // in tracing order; empty without sse
+    accuracy::PixelCause cause;           // why the trees differ (accuracy/attribution.h); only with sse
 };
 
 Findings trace_target(const scene::Scene& scene, const Target& target, Accel accel = Accel::automatic);
