@@ -254,7 +254,7 @@ TEST_F(CliTest, DiffReportPutsFailuresFirstWithSummaryFilterAndApproveCommands) 
     EXPECT_LT(spheres, csg) << "FAIL before WARN";
     EXPECT_LT(csg, planes) << "WARN before PASS";
     for (const char* summary : {">1 FAIL<", ">1 WARN<", ">1 PASS<", "pixels over their scene's fail threshold, in all",
-                                "unexplained pixels, in all", "why pixels over 0 differ</th><td>silhouette: "}) {
+                                "unexplained pixels, in all", "causes</th><td>of the pixels over 0: silhouette "}) {
         EXPECT_NE(html.find(summary), std::string::npos) << summary << " missing from the page";
     }
     for (const char* control : {"type=\"checkbox\" name=\"status\" value=\"FAIL\"", "value=\"WARN\"", "value=\"PASS\"",

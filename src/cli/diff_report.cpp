@@ -135,13 +135,13 @@ std::string metrics_table(const SceneReport& r) {
          << "<tr><th>render</th><td>reference " << format("%.3f s", r.reference_seconds) << ", SSE "
          << format("%.3f s", r.sse_seconds) << ": " << format("%.1f&times;", r.reference_seconds / r.sse_seconds)
          << " <small>(tracing only: loading the scene and compiling it excluded)</small></td></tr>"
-         << "<tr><th>why pixels over " << format("%.4g", t.warn) << " differ</th><td>";
+         << "<tr><th>causes</th><td>of the pixels over " << format("%.4g", t.warn) << ": ";
     for (int c = 0; c < accuracy::cause_count; ++c) {
-        html << accuracy::cause_name(static_cast<accuracy::Cause>(c)) << ": "
-             << r.attribution.counts[static_cast<std::size_t>(c)] << "<br>";
+        html << (c > 0 ? ", " : "") << accuracy::cause_name(static_cast<accuracy::Cause>(c)) << " "
+             << r.attribution.counts[static_cast<std::size_t>(c)];
     }
     if (!r.attribution_failure.empty()) {
-        html << "<b>fails: " << html_escape(r.attribution_failure) << "</b>";
+        html << "<br><b>fails: " << html_escape(r.attribution_failure) << "</b>";
     }
     html << "</td></tr></table>\n";
     return html.str();
