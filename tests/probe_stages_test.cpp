@@ -120,7 +120,7 @@ scene::Scene one_sphere_scene() {
 }
 
 TEST(ProbeJson, NodesCarryHitFieldsOnlyWhenTheyHitAndNameTheirChildren) {
-    probe::Findings findings{{"reference<double>", two_ray_tree()}, std::nullopt, "sse not run: no SSE4.1", {}, {}};
+    probe::Findings findings{{"reference<double>", two_ray_tree()}, std::nullopt, "sse not run: no SSE4.1", {}, {}, {}};
     probe::Target target = probe::parse_target(ray_arguments("0,0,5,0,0,-1"));
     probe::Json json = probe::report_json(one_sphere_scene(), "one.json", target, findings);
     const probe::Json& tree = json.at("reference").at("tree");
@@ -137,7 +137,7 @@ TEST(ProbeJson, NodesCarryHitFieldsOnlyWhenTheyHitAndNameTheirChildren) {
 }
 
 TEST(ProbeJson, WithoutTheSseTreeItIsNullWithTheReasonAndNothingDiverges) {
-    probe::Findings findings{{"reference<double>", two_ray_tree()}, std::nullopt, "sse not run: no SSE4.1", {}, {}};
+    probe::Findings findings{{"reference<double>", two_ray_tree()}, std::nullopt, "sse not run: no SSE4.1", {}, {}, {}};
     probe::Target target = probe::parse_target(ray_arguments("0,0,5,0,0,-1"));
     probe::Json json = probe::report_json(one_sphere_scene(), "one.json", target, findings);
     EXPECT_TRUE(json.at("sse").is_null());
@@ -150,7 +150,7 @@ TEST(ProbeJson, WithoutTheSseTreeItIsNullWithTheReasonAndNothingDiverges) {
 TEST(ProbeJson, ADivergenceNamesBothNodesBothValuesAndItsAmountAgainstTheThreshold) {
     RayTree sse_tree = two_ray_tree();
     sse_tree.nodes[0].t = 4.5;
-    probe::Findings findings{{"reference<double>", two_ray_tree()}, probe::TracedTree{"sse", sse_tree}, "", {}, {}};
+    probe::Findings findings{{"reference<double>", two_ray_tree()}, probe::TracedTree{"sse", sse_tree}, "", {}, {}, {}};
     findings.divergences = find_divergences(findings.reference.tree, sse_tree, findings.limits);
     ASSERT_FALSE(findings.divergences.empty());
     probe::Target target = probe::parse_target(ray_arguments("0,0,5,0,0,-1"));
