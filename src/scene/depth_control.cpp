@@ -28,7 +28,7 @@ double local_radiance_bound(const Scene& scene, const Material& m, double shadow
 }  // namespace
 
 DepthControl::DepthControl(const Scene& scene)
-    : radiance_bound_(static_cast<std::size_t>(scene.max_depth) + 1, 0.0),
+    : radiance_bound_(static_cast<std::size_t>(scene.max_depth) + 2, 0.0),
       min_weight_(scene.min_weight),
       max_depth_(scene.max_depth) {
     for (const Material& m : scene.materials) {
@@ -75,6 +75,9 @@ DepthControl::DepthControl(const Scene& scene)
         below = most;
         radiance_bound_[static_cast<std::size_t>(depth)] = below * rounding_margin;
     }
+    // One level past max_depth, which the tracers never trace: bounded as the last level (local shading
+    // only), so a ray asked about there reads a sound bound, not past the table.
+    radiance_bound_.back() = radiance_bound_[static_cast<std::size_t>(scene.max_depth)];
 }
 
 RayShare DepthControl::refracted(const RayShare& parent, int material) const {

@@ -71,7 +71,7 @@ public:
 
 private:
     std::vector<SecondaryCoefficients> coefficients_;  // by material
-    std::vector<double> radiance_bound_;               // by depth, 1..max_depth
+    std::vector<double> radiance_bound_;               // by depth, 1..max_depth + 1
     std::optional<double> min_weight_;
     int max_depth_;
 };
