@@ -2,6 +2,7 @@
 // reaches that tolerance where a scene sits at the bound's edge, drops the same rays in both tracers, and
 // the ray budget ends every legal scene's tree.
 #include "scene/depth_control.h"
+#include "compare/image_compare.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
 #include "scene_builder.h"
@@ -40,30 +41,16 @@ std::vector<NamedRenderer> renderers() {
     return all;
 }
 
-// The largest per-channel difference, and the largest difference of the PNG levels
-// floor(255·clamp(v, 0, 1) + 0.5), between two images of one size.
+// The largest per-channel difference, and the largest difference of the PNG levels (image_file.h's
+// quantize_8bit), between two images of one size.
 struct ImageDifference {
     double largest = 0;
     int largest_levels = 0;
 };
 
-int png_level(float v) {
-    return static_cast<int>(std::floor(255.0 * std::clamp(static_cast<double>(v), 0.0, 1.0) + 0.5));
-}
-
 ImageDifference difference(const Image& a, const Image& b) {
-    ImageDifference d;
-    for (int y = 0; y < a.height(); ++y) {
-        for (int x = 0; x < a.width(); ++x) {
-            const Rgb& p = a.at(x, y);
-            const Rgb& q = b.at(x, y);
-            for (auto [u, v] : {std::pair{p.r, q.r}, std::pair{p.g, q.g}, std::pair{p.b, q.b}}) {
-                d.largest = std::max(d.largest, std::fabs(static_cast<double>(u) - static_cast<double>(v)));
-                d.largest_levels = std::max(d.largest_levels, std::abs(png_level(u) - png_level(v)));
-            }
-        }
-    }
-    return d;
+    double levels = 255 * compare::measure(compare::quantized_8bit(a), compare::quantized_8bit(b), {}).max_error;
+    return {compare::measure(a, b, {}).max_error, static_cast<int>(std::lround(levels))};
 }
 
 scene::Scene without_cutoff(scene::Scene scene) {

@@ -1,5 +1,6 @@
 #include "accuracy/attribution.h"
 
+#include "compare/image_compare.h"
 #include "sse/tracer.h"
 
 #include <algorithm>
@@ -381,11 +382,6 @@ PixelCause attribute_with(const scene::Scene& scene, const std::vector<Curvature
     return judge_flip(scene, curvature, reference, expected, actual, *flip);
 }
 
-double largest_difference(const Rgb& a, const Rgb& b) {
-    return std::max({std::fabs(static_cast<double>(a.r) - b.r), std::fabs(static_cast<double>(a.g) - b.g),
-                     std::fabs(static_cast<double>(a.b) - b.b)});
-}
-
 }  // namespace
 
 const char* cause_name(Cause cause) {
@@ -417,7 +413,7 @@ Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_i
     Attribution attribution;
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
-            double error = largest_difference(reference_image.at(x, y), sse_image.at(x, y));
+            double error = compare::largest_channel_difference(reference_image.at(x, y), sse_image.at(x, y));
             if (!(error > threshold)) {
                 continue;
             }

@@ -9,9 +9,8 @@
 namespace twinray::cli::probe {
 namespace {
 
-TracedTree trace_reference(const scene::Scene& scene, const Target& target, Accel accel) {
+TracedTree trace_reference(const reference::Tracer<double>& tracer, const Target& target) {
     using R = reference::Ray<double>;
-    reference::Tracer<double> tracer(scene, accel);
     R ray = target.is_pixel ? tracer.primary_ray(target.x, target.y, target.width, target.height)
                             : R{{target.origin[0], target.origin[1], target.origin[2]},
                                 {target.direction[0], target.direction[1], target.direction[2]}};
@@ -34,12 +33,13 @@ TracedTree trace_sse(const scene::Scene& scene, const Target& target, Accel acce
 }  // namespace
 
 Findings trace_target(const scene::Scene& scene, const Target& target, Accel accel) {
-    Findings findings{trace_reference(scene, target, accel), std::nullopt, "", {}, {}, {}};
+    // One reference tracer traces the tree and, for the attribution, replays the SSE tracer's rays.
+    reference::Tracer<double> reference(scene, accel);
+    Findings findings{trace_reference(reference, target), std::nullopt, "", {}, {}, {}};
     if (sse::cpu_supports_sse41()) {
         findings.sse = trace_sse(scene, target, accel);
         findings.divergences = find_divergences(findings.reference.tree, findings.sse->tree, findings.limits);
-        reference::Tracer<double> replaying(scene);
-        findings.cause = accuracy::attribute(scene, replaying, findings.reference.tree, findings.sse->tree);
+        findings.cause = accuracy::attribute(scene, reference, findings.reference.tree, findings.sse->tree);
     } else {
         findings.sse_note = "sse not run: " + sse::missing_sse41_message();
     }
