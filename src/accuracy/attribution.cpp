@@ -13,6 +13,16 @@
 namespace twinray::accuracy {
 namespace {
 
+// The band at one ray of the reference's tree: how far the SSE tracer's ray may be off it after float
+// rounding at every ray above it (radians between directions; distance between origins), and, where the
+// ray hits, how far apart the two hit points and normals may be.
+struct Band {
+    double angle = 0;
+    double offset = 0;
+    double point = 0;
+    double normal = 0;
+};
+
 using ray_tree_detail::angle_between;
 using ray_tree_detail::max_abs;
 using ray_tree_detail::max_abs_difference;
@@ -393,10 +403,6 @@ const char* cause_name(Cause cause) {
         case Cause::unexplained: return "unexplained";
     }
     return "?";
-}
-
-Band band_at(const scene::Scene& scene, const RayTree& tree, int node) {
-    return band_along(scene, curvatures(scene), tree, node);
 }
 
 PixelCause attribute(const scene::Scene& scene, const reference::Tracer<double>& reference, const RayTree& expected,

@@ -28,17 +28,6 @@ enum class Cause {
 constexpr int cause_count = 5;
 const char* cause_name(Cause cause);
 
-// The band at one ray of the reference's tree: how far the SSE tracer's ray may be off it after float
-// rounding at every ray above it (radians between directions; distance between origins), and, where the
-// ray hits, how far apart the two hit points and normals may be.
-struct Band {
-    double angle = 0;
-    double offset = 0;
-    double point = 0;
-    double normal = 0;
-};
-Band band_at(const scene::Scene& scene, const RayTree& tree, int node);
-
 struct PixelCause {
     Cause cause = Cause::drift;
     std::string what;      // the first divergence (render/ray_tree.h), or empty where the trees agree
