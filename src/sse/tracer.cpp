@@ -217,6 +217,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
 FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
     Tracer tracer(scene, precision, options.accel);
+    auto start = std::chrono::steady_clock::now();
     std::uint64_t hits = with_precision_policy(precision, [&](auto policy) {
         using P = decltype(policy);
         PacketTracer<P> packets(tracer.compiled());
@@ -231,7 +232,8 @@ FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& opti
                                                 return tile_hits;
                                             });
     });
-    return {static_cast<std::uint64_t>(size.width) * static_cast<std::uint64_t>(size.height), hits};
+    return {static_cast<std::uint64_t>(size.width) * static_cast<std::uint64_t>(size.height), hits,
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
 }
 
 }  // namespace twinray::sse

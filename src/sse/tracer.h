@@ -104,6 +104,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
 struct FirstHits {
     std::uint64_t rays = 0;
     std::uint64_t hits = 0;
+    double seconds = 0;  // the casts alone, as Embree's are timed: compiling and building the BVH come before
 };
 FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision = {});
 
