@@ -55,8 +55,8 @@ __m128 load_with_movaps(const void* address) {
 }
 
 // Loads every 16-byte group of every record; returns how many records were read.
-template <typename Record>
-std::size_t load_every_group(const std::vector<Record>& records) {
+template <typename Record, typename Allocator>
+std::size_t load_every_group(const std::vector<Record, Allocator>& records) {
     for (const Record& record : records) {
         const auto* bytes = reinterpret_cast<const unsigned char*>(&record);
         for (std::size_t offset = 0; offset < sizeof(Record); offset += 16) {

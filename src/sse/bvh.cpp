@@ -1,9 +1,11 @@
 #include "sse/bvh.h"
 
+#include <emmintrin.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
+#include <utility>
 
 namespace twinray::sse {
 namespace {
@@ -11,50 +13,89 @@ namespace {
 constexpr int bin_count = 16;
 constexpr std::uint32_t max_leaf_items = 4;
 // The SAH's price of visiting a node, in primitive tests.
-constexpr double node_cost = 2.0;
-constexpr double infinity_d = std::numeric_limits<double>::infinity();
-
-scene::Bounds empty_bounds() {
-    return {{infinity_d, infinity_d, infinity_d}, {-infinity_d, -infinity_d, -infinity_d}};
-}
-
-void grow(scene::Bounds& bounds, const scene::Bounds& other) {
-    for (int axis = 0; axis < 3; ++axis) {
-        bounds.low[axis] = std::min(bounds.low[axis], other.low[axis]);
-        bounds.high[axis] = std::max(bounds.high[axis], other.high[axis]);
-    }
-}
-
-void grow(scene::Bounds& bounds, const scene::Vec3& point) {
-    grow(bounds, scene::Bounds{point, point});
-}
-
-// Half the surface area: the SAH compares ratios, so the factor 2 is left out.
-double half_area(const scene::Bounds& bounds) {
-    scene::Vec3 size = bounds.high - bounds.low;
-    if (!(size[0] >= 0 && size[1] >= 0 && size[2] >= 0)) {
-        return 0;
-    }
-    return size[0] * size[1] + size[1] * size[2] + size[2] * size[0];
-}
-
-scene::Bounds padded(const scene::Bounds& bounds) {
-    double pad =
-        bvh_padding * std::max(scene::largest_coordinate(bounds.low), scene::largest_coordinate(bounds.high)) + 1e-30;
-    return scene::around(bounds.low, bounds.high, pad);
-}
+constexpr float node_cost = 2.0f;
+constexpr float infinity_f = std::numeric_limits<float>::infinity();
 
 // The float at or below `value` (above it: rounded_up), so that the float box holds the double one.
 float rounded_down(double value) {
     double nearest = scene::rounded_to_float(value);
     float out = static_cast<float>(nearest);
-    return nearest > value ? std::nextafter(out, -std::numeric_limits<float>::infinity()) : out;
+    return nearest > value ? std::nextafter(out, -infinity_f) : out;
 }
 
 float rounded_up(double value) {
     double nearest = scene::rounded_to_float(value);
     float out = static_cast<float>(nearest);
-    return nearest < value ? std::nextafter(out, std::numeric_limits<float>::infinity()) : out;
+    return nearest < value ? std::nextafter(out, infinity_f) : out;
+}
+
+// A box in float, low and high each one __m128 (the fourth lane unused). SSE2 only, the x86-64 baseline: the
+// build needs nothing of SSE4.1. Float throughout, since every box is rounded outward to float once, from the
+// padded double box, and float's min and max are exact: a node's box is the union of its items' float boxes,
+// the same as rounding the union of their double boxes outward.
+struct Box4 {
+    __m128 low = _mm_set1_ps(infinity_f);
+    __m128 high = _mm_set1_ps(-infinity_f);
+
+    void grow(__m128 box_low, __m128 box_high) {
+        low = _mm_min_ps(low, box_low);
+        high = _mm_max_ps(high, box_high);
+    }
+    void grow(const Box4& box) { grow(box.low, box.high); }
+    void grow(__m128 point) { grow(point, point); }
+};
+
+// Half extents, times `scale`; 0 for an empty box. Halved first, so that no difference of finite floats overflows.
+__m128 half_extent(const Box4& box, __m128 scale) {
+    __m128 half = _mm_set1_ps(0.5f);
+    __m128 extent = _mm_sub_ps(_mm_mul_ps(box.high, half), _mm_mul_ps(box.low, half));
+    return _mm_mul_ps(_mm_max_ps(extent, _mm_setzero_ps()), scale);
+}
+
+// A node's boxes measured in its own size: 1 / its largest half extent on x, y and z (1 where it is a point), so
+// that the SAH's areas are at most 3 and no product overflows or underflows in float, whatever the scene's scale.
+__m128 area_scale(const Box4& node) {
+    alignas(16) float extent[4];
+    _mm_store_ps(extent, half_extent(node, _mm_set1_ps(1.0f)));
+    float largest = std::max({extent[0], extent[1], extent[2]});
+    return _mm_set1_ps(largest > 0 ? 1.0f / largest : 1.0f);
+}
+
+// A quarter of the surface area, scaled (the SAH compares ratios, so constant factors are left out).
+float area(const Box4& box, __m128 scale) {
+    __m128 d = half_extent(box, scale);
+    __m128 rotated = _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1));  // y, z, x
+    __m128 products = _mm_mul_ps(d, rotated);                        // xy, yz, zx
+    __m128 sum = _mm_add_ss(products, _mm_shuffle_ps(products, products, _MM_SHUFFLE(3, 3, 3, 1)));
+    return _mm_cvtss_f32(_mm_add_ss(sum, _mm_shuffle_ps(products, products, _MM_SHUFFLE(3, 3, 3, 2))));
+}
+
+// One item as the build moves it: its padded float box, and its place in the input. 32 bytes, so that
+// partitioning moves whole cache-line halves.
+struct alignas(16) Reference {
+    float low[3];
+    std::uint32_t input;
+    float high[3];
+    float unused;
+
+    __m128 low4() const { return _mm_load_ps(low); }
+    __m128 high4() const { return _mm_load_ps(high); }
+    // Twice the centroid: the factor ½ is folded into the bins' scale.
+    __m128 centroid2() const { return _mm_add_ps(low4(), high4()); }
+};
+
+Reference reference_of(const BvhInput& input, std::uint32_t index) {
+    const scene::Bounds& bounds = input.bounds;
+    double pad =
+        bvh_padding * std::max(scene::largest_coordinate(bounds.low), scene::largest_coordinate(bounds.high)) + 1e-30;
+    scene::Bounds padded = scene::around(bounds.low, bounds.high, pad);
+    Reference out{};
+    for (int axis = 0; axis < 3; ++axis) {
+        out.low[axis] = rounded_down(padded.low[axis]);
+        out.high[axis] = rounded_up(padded.high[axis]);
+    }
+    out.input = index;
+    return out;
 }
 
 int ceil_log2(std::uint32_t count) {
@@ -65,21 +106,58 @@ int ceil_log2(std::uint32_t count) {
     return bits;
 }
 
+// Maps twice-centroids to `count` bins on all three axes at once: bin = ⌊(c − low)·scale⌋, clamped. An axis
+// on which every centroid is the same (or too close for the scale to be finite) puts everything in bin 0.
+struct Binning {
+    __m128 low;
+    __m128 scale;
+    __m128 last;
+    int count;
+    bool splittable[3];
+
+    Binning(const Box4& centroids, int bins) : low(centroids.low), last(_mm_set1_ps(bins - 1)), count(bins) {
+        alignas(16) float extent[4], scales[4] = {};
+        _mm_store_ps(extent, _mm_sub_ps(centroids.high, centroids.low));
+        for (int axis = 0; axis < 3; ++axis) {
+            // A hair under `bins`, so that the largest centroid lands in the last bin, not past it.
+            float candidate = static_cast<float>(bins) * (1.0f - 1.0f / 1024.0f) / extent[axis];
+            splittable[axis] = extent[axis] > 0 && std::isfinite(candidate);
+            scales[axis] = splittable[axis] ? candidate : 0.0f;
+        }
+        scale = _mm_load_ps(scales);
+    }
+
+    // The bins of a twice-centroid on x, y, z.
+    void bins_of(__m128 centroid2, int bins[4]) const {
+        __m128 position = _mm_mul_ps(_mm_sub_ps(centroid2, low), scale);
+        position = _mm_min_ps(_mm_max_ps(position, _mm_setzero_ps()), last);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(bins), _mm_cvttps_epi32(position));
+    }
+    int bin_of(__m128 centroid2, int axis) const {
+        alignas(16) int bins[4];
+        bins_of(centroid2, bins);
+        return bins[axis];
+    }
+};
+
 struct Split {
     int axis = -1;  // -1: make a leaf
     int bin = 0;    // items whose centroid falls in a bin below this one go left
     bool halve = false;
 };
 
+// The items of a node: where they are in the build's array, their boxes' union and their twice-centroids' bounds.
+struct Range {
+    std::uint32_t begin, end;
+    Box4 box, centroids;
+};
+
 class Builder {
 public:
-    explicit Builder(const std::vector<BvhInput>& inputs) : inputs_(inputs), order_(inputs.size()) {
-        std::iota(order_.begin(), order_.end(), std::uint32_t{0});
-        boxes_.reserve(inputs.size());
-        centroids_.reserve(inputs.size());
-        for (const BvhInput& input : inputs) {
-            boxes_.push_back(padded(input.bounds));
-            centroids_.push_back(0.5 * (input.bounds.low + input.bounds.high));
+    explicit Builder(const std::vector<BvhInput>& inputs) : inputs_(inputs) {
+        references_.reserve(inputs.size());
+        for (std::size_t i = 0; i < inputs.size(); ++i) {
+            references_.push_back(reference_of(inputs[i], static_cast<std::uint32_t>(i)));
         }
     }
 
@@ -93,102 +171,110 @@ public:
         bvh.nodes.emplace_back();
         // Depth first, left child first, on an explicit stack: no recursion a degenerate scene could overflow.
         struct Task {
-            std::uint32_t node, begin, end;
+            std::uint32_t node;
             int depth;
+            Range range;
         };
-        std::vector<Task> tasks{{0, 0, static_cast<std::uint32_t>(inputs_.size()), 0}};
+        Range root{0, static_cast<std::uint32_t>(references_.size()), {}, {}};
+        for (const Reference& reference : references_) {
+            root.box.grow(reference.low4(), reference.high4());
+            root.centroids.grow(reference.centroid2());
+        }
+        std::vector<Task> tasks{{0, 0, root}};
         while (!tasks.empty()) {
             Task task = tasks.back();
             tasks.pop_back();
-            scene::Bounds box = empty_bounds();
-            for (std::uint32_t i = task.begin; i < task.end; ++i) {
-                grow(box, boxes_[order_[i]]);
-            }
+            const Range& range = task.range;
             BvhNode& node = bvh.nodes[task.node];
-            for (int axis = 0; axis < 3; ++axis) {
-                node.low[axis] = rounded_down(box.low[axis]);
-                node.high[axis] = rounded_up(box.high[axis]);
-            }
-            Split split = choose_split(task.begin, task.end, task.depth, box);
+            alignas(16) float low[4], high[4];
+            _mm_store_ps(low, range.box.low);
+            _mm_store_ps(high, range.box.high);
+            std::copy(low, low + 3, node.low);
+            std::copy(high, high + 3, node.high);
+            Split split = choose_split(range, task.depth);
             if (split.axis < 0) {
                 node.first = static_cast<std::uint32_t>(bvh.items.size());
-                node.count = task.end - task.begin;
-                for (std::uint32_t i = task.begin; i < task.end; ++i) {
-                    bvh.items.push_back(inputs_[order_[i]].item);
+                node.count = range.end - range.begin;
+                for (std::uint32_t i = range.begin; i < range.end; ++i) {
+                    bvh.items.push_back(inputs_[references_[i].input].item);
                 }
                 continue;
             }
-            std::uint32_t middle = partition(task.begin, task.end, split);
-            std::uint32_t left = static_cast<std::uint32_t>(bvh.nodes.size());
-            node.first = left;
+            auto [left, right] = partition(range, split);
+            std::uint32_t first = static_cast<std::uint32_t>(bvh.nodes.size());
+            node.first = first;
             node.count = 0;
             bvh.nodes.emplace_back();
             bvh.nodes.emplace_back();
-            tasks.push_back({left + 1, middle, task.end, task.depth + 1});
-            tasks.push_back({left, task.begin, middle, task.depth + 1});
+            tasks.push_back({first + 1, task.depth + 1, right});
+            tasks.push_back({first, task.depth + 1, left});
         }
         return bvh;
     }
 
 private:
-    struct CentroidBins {
-        scene::Bounds centroid_bounds;
-        int bin_of(const scene::Vec3& centroid, int axis) const {
-            double low = centroid_bounds.low[axis];
-            double extent = centroid_bounds.high[axis] - low;
-            int bin = static_cast<int>((centroid[axis] - low) / extent * bin_count);
-            return std::clamp(bin, 0, bin_count - 1);
-        }
-    };
-
-    // Binned SAH over the items' centroids; a leaf where that is cheaper (and small) or where every centroid
-    // is the same point (no split separates them: one leaf, as brute force). Halving splits where the
-    // depth left is short.
-    Split choose_split(std::uint32_t begin, std::uint32_t end, int depth, const scene::Bounds& box) {
-        std::uint32_t count = end - begin;
+    // Binned SAH over the items' centroids, all three axes in one pass; a leaf where that is cheaper (and
+    // small) or where every centroid is the same point (no split separates them: one leaf, as brute force).
+    // Halving splits where the depth left is short.
+    Split choose_split(const Range& range, int depth) {
+        std::uint32_t count = range.end - range.begin;
         Split split;
         if (count <= 1) {
             return split;
         }
-        bins_.centroid_bounds = empty_bounds();
-        for (std::uint32_t i = begin; i < end; ++i) {
-            grow(bins_.centroid_bounds, centroids_[order_[i]]);
-        }
+        // As many bins as items, up to bin_count: a small node's sweep then costs no more than its binning.
+        binning_ = Binning(range.centroids, static_cast<int>(std::min<std::uint32_t>(count, bin_count)));
         if (depth + ceil_log2(count) >= bvh_max_depth) {
             split.halve = true;
-            split.axis = largest_axis(bins_.centroid_bounds);
+            split.axis = largest_axis(range.centroids);
             return split;
         }
-        double best_cost = infinity_d;
+        // Two sets of bins, even and odd items, merged after: runs of neighbours in one bin (common, items come
+        // in scene order) then do not wait on each other's stores.
+        Box4 bin_boxes[2][3][bin_count];
+        std::uint32_t bin_items[2][3][bin_count] = {};
+        for (std::uint32_t i = range.begin; i < range.end; ++i) {
+            const Reference& reference = references_[i];
+            __m128 low = reference.low4(), high = reference.high4();
+            alignas(16) int bins[4];
+            binning_.bins_of(reference.centroid2(), bins);
+            int set = i & 1;
+            for (int axis = 0; axis < 3; ++axis) {
+                bin_boxes[set][axis][bins[axis]].grow(low, high);
+                ++bin_items[set][axis][bins[axis]];
+            }
+        }
+        const int bins = binning_.count;
+        const __m128 scale = area_scale(range.box);
+        float best_cost = std::numeric_limits<float>::infinity();
         for (int axis = 0; axis < 3; ++axis) {
-            if (!(bins_.centroid_bounds.high[axis] > bins_.centroid_bounds.low[axis])) {
+            if (!binning_.splittable[axis]) {
                 continue;
             }
-            scene::Bounds bin_bounds[bin_count];
-            std::uint32_t bin_items[bin_count] = {};
-            std::fill(bin_bounds, bin_bounds + bin_count, empty_bounds());
-            for (std::uint32_t i = begin; i < end; ++i) {
-                int bin = bins_.bin_of(centroids_[order_[i]], axis);
-                grow(bin_bounds[bin], boxes_[order_[i]]);
-                ++bin_items[bin];
+            Box4 merged[bin_count];
+            std::uint32_t merged_items[bin_count];
+            for (int bin = 0; bin < bins; ++bin) {
+                merged[bin] = bin_boxes[0][axis][bin];
+                merged[bin].grow(bin_boxes[1][axis][bin]);
+                merged_items[bin] = bin_items[0][axis][bin] + bin_items[1][axis][bin];
             }
-            double right_cost[bin_count] = {};
-            scene::Bounds right = empty_bounds();
+            float right_cost[bin_count] = {};
+            Box4 right;
             std::uint32_t right_items = 0;
-            for (int bin = bin_count - 1; bin > 0; --bin) {
-                grow(right, bin_bounds[bin]);
-                right_items += bin_items[bin];
-                right_cost[bin] = right_items == 0 ? infinity_d : half_area(right) * right_items;
+            for (int bin = bins - 1; bin > 0; --bin) {
+                right.grow(merged[bin]);
+                right_items += merged_items[bin];
+                right_cost[bin] = area(right, scale) * static_cast<float>(right_items);
             }
-            scene::Bounds left = empty_bounds();
+            Box4 left;
             std::uint32_t left_items = 0;
-            for (int bin = 1; bin < bin_count; ++bin) {
-                grow(left, bin_bounds[bin - 1]);
-                left_items += bin_items[bin - 1];
+            for (int bin = 1; bin < bins; ++bin) {
+                left.grow(merged[bin - 1]);
+                left_items += merged_items[bin - 1];
                 if (left_items == 0 || left_items == count) {
                     continue;
                 }
-                double cost = half_area(left) * left_items + right_cost[bin];
+                float cost = area(left, scale) * static_cast<float>(left_items) + right_cost[bin];
                 if (cost < best_cost) {
                     best_cost = cost;
                     split.axis = axis;
@@ -196,38 +282,69 @@ private:
                 }
             }
         }
+        float node_area = area(range.box, scale);
         if (split.axis >= 0 && count <= max_leaf_items &&
-            count * half_area(box) <= node_cost * half_area(box) + best_cost) {
+            static_cast<float>(count) * node_area <= node_cost * node_area + best_cost) {
             split.axis = -1;
         }
         return split;
     }
 
-    static int largest_axis(const scene::Bounds& bounds) {
-        scene::Vec3 size = bounds.high - bounds.low;
+    static int largest_axis(const Box4& bounds) {
+        alignas(16) float size[4];
+        _mm_store_ps(size, _mm_sub_ps(bounds.high, bounds.low));
         return size[1] > size[0] ? (size[2] > size[1] ? 2 : 1) : (size[2] > size[0] ? 2 : 0);
     }
 
-    // Both sides keep the items' order among themselves (stable), so the tree depends on nothing but the input.
-    std::uint32_t partition(std::uint32_t begin, std::uint32_t end, const Split& split) {
-        auto first = order_.begin() + begin;
-        auto last = order_.begin() + end;
+    // Two pointers from both ends, gathering each side's boxes on the way; deterministic (the tree depends
+    // on nothing but the input), though not stable: the order within a leaf decides no answer (ties go to
+    // the earlier leaf, and shadow products are multiplied in list order, bvh_traversal.h).
+    std::pair<Range, Range> partition(const Range& range, const Split& split) {
         if (split.halve) {
-            std::stable_sort(first, last, [&](std::uint32_t a, std::uint32_t b) {
-                return centroids_[a][split.axis] < centroids_[b][split.axis];
-            });
-            return begin + (end - begin) / 2;
+            return halve(range, split.axis);
         }
-        auto middle = std::stable_partition(
-            first, last, [&](std::uint32_t i) { return bins_.bin_of(centroids_[i], split.axis) < split.bin; });
-        return static_cast<std::uint32_t>(middle - order_.begin());
+        Range left{range.begin, range.begin, {}, {}}, right{range.end, range.end, {}, {}};
+        std::uint32_t i = range.begin, j = range.end;
+        while (i < j) {
+            const Reference& reference = references_[i];
+            __m128 centroid2 = reference.centroid2();
+            if (binning_.bin_of(centroid2, split.axis) < split.bin) {
+                left.box.grow(reference.low4(), reference.high4());
+                left.centroids.grow(centroid2);
+                ++i;
+            } else {
+                right.box.grow(reference.low4(), reference.high4());
+                right.centroids.grow(centroid2);
+                std::swap(references_[i], references_[--j]);
+            }
+        }
+        left.end = i;
+        right.begin = i;
+        return {left, right};
+    }
+
+    // Sorted by centroid (ties by input order) and cut in two equal halves: depth log2(count) at most.
+    std::pair<Range, Range> halve(const Range& range, int axis) {
+        auto first = references_.begin() + range.begin;
+        auto last = references_.begin() + range.end;
+        std::sort(first, last, [axis](const Reference& a, const Reference& b) {
+            float ca = a.low[axis] + a.high[axis], cb = b.low[axis] + b.high[axis];
+            return ca < cb || (ca == cb && a.input < b.input);
+        });
+        std::uint32_t middle = range.begin + (range.end - range.begin) / 2;
+        Range halves[2] = {{range.begin, middle, {}, {}}, {middle, range.end, {}, {}}};
+        for (Range& half : halves) {
+            for (std::uint32_t i = half.begin; i < half.end; ++i) {
+                half.box.grow(references_[i].low4(), references_[i].high4());
+                half.centroids.grow(references_[i].centroid2());
+            }
+        }
+        return {halves[0], halves[1]};
     }
 
     const std::vector<BvhInput>& inputs_;
-    std::vector<std::uint32_t> order_;
-    std::vector<scene::Bounds> boxes_;
-    std::vector<scene::Vec3> centroids_;
-    CentroidBins bins_;
+    LargeArray<Reference> references_;
+    Binning binning_{Box4{}, bin_count};
 };
 
 }  // namespace

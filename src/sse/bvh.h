@@ -1,10 +1,12 @@
 // A bounding volume hierarchy over the bounded top-level items of the compiled scene (each primitive by its
 // box, each CSG object by its bound); planes and anything else unbounded stay in flat lists. Binary, built by
 // binned SAH on one thread, deterministic: the same scene gives the same node array on any machine and for
-// any thread count (no unordered containers, stable partitions, ties to the lower axis, bin and index).
-// Plain C++ (no intrinsics): the build runs in double; the traversal is in bvh_traversal.h.
+// any thread count (IEEE float arithmetic only, no unordered containers, our own partition, ties to the lower
+// axis, bin and input index). The build uses SSE2 only (the x86-64 baseline, no -msse4.1); the traversal is in
+// bvh_traversal.h.
 #pragma once
 
+#include "render/large_array.h"
 #include "scene/geometry.h"
 
 #include <cstdint>
@@ -41,8 +43,8 @@ struct BvhInput {
 };
 
 struct Bvh {
-    std::vector<BvhNode> nodes;  // nodes[0] is the root; empty: no BVH
-    std::vector<BvhItem> items;  // leaves' items, in leaf order
+    LargeArray<BvhNode> nodes;  // nodes[0] is the root; empty: no BVH
+    LargeArray<BvhItem> items;  // leaves' items, in leaf order
 
     bool empty() const { return nodes.empty(); }
 };

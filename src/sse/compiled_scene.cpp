@@ -20,7 +20,7 @@ scene::Box as_float_safe_box(const scene::Bounds& bounds) {
 // Appends a primitive to the list of its type (at top level, or inside one CSG object) and records its
 // surface for hits; returns where it went.
 BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int32_t id, float transmission,
-                      std::vector<Leaf>& leaves) {
+                      LargeArray<Leaf>& leaves) {
     BvhItem added{};
     std::visit(
         [&](const auto& shape) {
@@ -67,7 +67,15 @@ public:
                                      static_cast<float>(m.ior)});
         }
         out.leaves.resize(scene_.leaf_paths.size());
+        // Reserved, not grown: a million primitives would otherwise be copied some twenty times over.
+        scene::PrimitiveTypes::for_each([&](auto type) {
+            using S = typename decltype(type)::type;
+            out.primitives.of<S>().reserve(static_cast<std::size_t>(
+                std::count_if(scene_.objects.begin(), scene_.objects.end(),
+                              [](const scene::Object& object) { return std::holds_alternative<S>(object.shape); })));
+        });
         std::vector<BvhInput> bounded;
+        bounded.reserve(scene_.objects.size());
         std::vector<BvhItem> unbounded;
         // What the choice of a BVH weighs: a CSG object counts as its primitives, since brute force tests its
         // bound for every packet and evaluates it wherever met.

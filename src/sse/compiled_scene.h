@@ -5,6 +5,7 @@
 #pragma once
 
 #include "math/camera.h"
+#include "render/large_array.h"
 #include "scene/depth_control.h"
 #include "sse/box.h"
 #include "sse/bvh.h"
@@ -38,11 +39,11 @@ template <typename Shape>
 struct PrimitiveList {
     using shape_type = Shape;
 
-    std::vector<Shape> items;
-    std::vector<std::int32_t> ids;
-    std::vector<float> transmission;
-    std::vector<scene::Vec3> bound_centers;
-    std::vector<double> bound_radii;
+    LargeArray<Shape> items;
+    LargeArray<std::int32_t> ids;
+    LargeArray<float> transmission;
+    LargeArray<scene::Vec3> bound_centers;
+    LargeArray<double> bound_radii;
 
     void clear() {
         items.clear();
@@ -50,6 +51,13 @@ struct PrimitiveList {
         transmission.clear();
         bound_centers.clear();
         bound_radii.clear();
+    }
+    void reserve(std::size_t count) {
+        items.reserve(count);
+        ids.reserve(count);
+        transmission.reserve(count);
+        bound_centers.reserve(count);
+        bound_radii.reserve(count);
     }
     void push_back_from(const PrimitiveList& other, std::size_t i) {
         items.push_back(other.items[i]);
@@ -175,7 +183,7 @@ struct CompiledScene {
     PrimitiveLists unbounded;
     std::vector<std::int32_t> unbounded_csg;  // indices into csg_objects, ascending
 
-    std::vector<Leaf> leaves;
+    LargeArray<Leaf> leaves;
     std::vector<Material> materials;
     std::vector<Light> lights;
     Color background, ambient_light;
