@@ -269,36 +269,42 @@ TEST_F(Bvh, BuildIsDeterministicAndRenderingIsTheSameOnAnyThreadCount) {
     EXPECT_TRUE(same_bits(render(scene, Accel::bvh, 1), render(scene, Accel::bvh, 2)));
 }
 
-int depth_of(const twinray::sse::Bvh& bvh) {
+// visit(node, depth) for every node reachable from the root, parents before children.
+template <typename Visit>
+void walk(const twinray::sse::Bvh& bvh, Visit&& visit) {
     struct Pending {
         std::uint32_t node;
         int depth;
     };
     std::vector<Pending> stack{{0, 0}};
-    int deepest = 0;
     while (!stack.empty()) {
         Pending pending = stack.back();
         stack.pop_back();
-        deepest = std::max(deepest, pending.depth);
         const twinray::sse::BvhNode& node = bvh.nodes[pending.node];
+        visit(node, pending.depth);
         if (node.count == 0) {
             stack.push_back({node.first, pending.depth + 1});
             stack.push_back({node.first + 1, pending.depth + 1});
         }
     }
-    return deepest;
 }
 
 // Every item in exactly one leaf, every leaf within the traversal stack's depth, every child's box inside
-// its parent's.
+// its parent's, and two siblings in one cache line.
 TEST_F(Bvh, TreeHoldsEveryItemOnceAndStaysWithinItsDepth) {
     for (const auto& [name, scene] : hard_scenes()) {
         twinray::sse::CompiledScene compiled = twinray::sse::compile(scene, Accel::bvh);
         const twinray::sse::Bvh& bvh = compiled.bvh;
-        std::size_t in_leaves = 0;
-        for (const twinray::sse::BvhNode& node : bvh.nodes) {
-            in_leaves += node.count;
+        std::vector<int> held(bvh.items.size(), 0);
+        int depth = 0, split_siblings = 0;
+        walk(bvh, [&](const twinray::sse::BvhNode& node, int node_depth) {
+            depth = std::max(depth, node_depth);
+            for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+                ++held.at(i);
+            }
             if (node.count == 0) {
+                split_siblings += reinterpret_cast<std::uintptr_t>(&bvh.nodes[node.first]) / 64 !=
+                                  reinterpret_cast<std::uintptr_t>(&bvh.nodes[node.first + 1]) / 64;
                 for (std::uint32_t child = node.first; child < node.first + 2; ++child) {
                     for (int axis = 0; axis < 3; ++axis) {
                         EXPECT_LE(node.low[axis], bvh.nodes[child].low[axis]) << name;
@@ -306,9 +312,10 @@ TEST_F(Bvh, TreeHoldsEveryItemOnceAndStaysWithinItsDepth) {
                     }
                 }
             }
-        }
-        EXPECT_EQ(in_leaves, bvh.items.size()) << name;
-        int depth = depth_of(bvh);
+        });
+        EXPECT_EQ(std::count(held.begin(), held.end(), 1), static_cast<std::ptrdiff_t>(held.size()))
+            << name << ": an item in no leaf or in two";
+        EXPECT_EQ(split_siblings, 0) << name << ": sibling pairs across two cache lines";
         EXPECT_LE(depth, twinray::sse::bvh_max_depth) << name;
         std::printf("%-24s %zu items, %zu nodes, depth %d, %zu bytes\n", name.c_str(), bvh.items.size(),
                     bvh.nodes.size(), depth, twinray::sse::bvh_bytes(bvh));

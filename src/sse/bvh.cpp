@@ -168,7 +168,7 @@ public:
         }
         bvh.nodes.reserve(2 * inputs_.size());
         bvh.items.reserve(inputs_.size());
-        bvh.nodes.emplace_back();
+        bvh.nodes.resize(2);
         // Depth first, left child first, on an explicit stack: no recursion a degenerate scene could overflow.
         struct Task {
             std::uint32_t node;

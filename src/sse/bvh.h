@@ -23,7 +23,8 @@ struct BvhItem {
 };
 
 // 32 bytes, 16-byte aligned, so that each half loads as one __m128. An inner node (count 0) has its two
-// children at `first` and `first + 1`; a leaf holds items[first, first + count).
+// children at `first` and `first + 1`, `first` even: the array starts on a cache line, so two siblings, tested
+// together, share one 64-byte line. A leaf holds items[first, first + count).
 struct alignas(16) BvhNode {
     float low[3];
     std::uint32_t first;
@@ -43,7 +44,7 @@ struct BvhInput {
 };
 
 struct Bvh {
-    LargeArray<BvhNode> nodes;  // nodes[0] is the root; empty: no BVH
+    LargeArray<BvhNode> nodes;  // nodes[0] is the root, nodes[1] unused (siblings from 2); empty: no BVH
     LargeArray<BvhItem> items;  // leaves' items, in leaf order
 
     bool empty() const { return nodes.empty(); }
