@@ -385,6 +385,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
     Tracer<T> tracer(scene, options.accel);
     Image image(size.width, size.height);
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_seconds();
     TraceTally tally = parallel_sum<TraceTally>(
         size.height, options.threads,
         [&](int y) {
@@ -398,7 +399,8 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
             return row;
         },
         options.progress, options.cancel);
-    return {std::move(image), tally, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+    return {std::move(image), tally, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+            process_cpu_seconds() - cpu_start};
 }
 
 template class Tracer<double>;

@@ -328,4 +328,31 @@ TEST_F(CliTest, BenchWritesItsTablesAsCsvAndMarkdown) {
     EXPECT_TRUE(fs::exists(output("bench-process.csv")));
 }
 
+// The scaling tables alone, at the smallest size: one row per family in each, every table in its CSV file.
+TEST_F(CliTest, BenchScalingOnlyWritesItsTables) {
+    CommandResult result = run_twinray("bench --scaling-only --scaling-max 10 --runs 1 --width 16 --no-peers --csv " +
+                                       output("bench.csv") + " --markdown " + output("bench.md"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_FALSE(fs::exists(output("bench.csv"))) << "no scene was rendered";
+    for (const char* table : {"scaling", "scaling-peers", "scaling-build", "scaling-threads"}) {
+        std::ifstream csv(output(std::string("bench-") + table + ".csv"));
+        std::string line;
+        int rows = -1;  // the header
+        while (std::getline(csv, line)) {
+            ++rows;
+        }
+        EXPECT_EQ(rows, 3) << table << ": spheres, fractal, lattice";
+    }
+    std::ifstream markdown(output("bench.md"));
+    std::string text((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("| lattice | 9 |"), std::string::npos) << text;
+}
+
+TEST_F(CliTest, BenchRefusesABadScalingRequest) {
+    CommandResult too_large = run_twinray("bench --scaling --scaling-max 2000000");
+    EXPECT_EQ(too_large.exit_status, 1) << too_large.output;
+    CommandResult with_scenes = run_twinray("bench --scaling-only " + scene("spheres.json"));
+    EXPECT_EQ(with_scenes.exit_status, 1) << with_scenes.output;
+}
+
 }  // namespace

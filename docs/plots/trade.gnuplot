@@ -1,6 +1,6 @@
 # Speed-up against error, one point per configuration (the Pareto front), and time per ray against
 # scene size, from the CSV files of `twinray bench --csv FILE --scaling`. Run by ci/plot-trade:
-#   gnuplot -e "summary='bench-summary.csv'; scaling='bench-scaling.csv'; outdir='docs/images'" docs/plots/trade.gnuplot
+#   gnuplot -e "summary='bench-summary.csv'; scaling='bench-scaling.csv'; peers='bench-scaling-peers.csv'; outdir='docs/images'" docs/plots/trade.gnuplot
 set datafile separator ","
 set terminal pngcairo size 1200,520 font "DejaVu Sans,10"
 floor = 1e-8   # an error of exactly 0 (reference<double> against itself) is drawn on this line
@@ -20,14 +20,29 @@ plot summary using (($10) > floor ? $10 : floor):2 every ::1 with points pt 7 ps
      summary using (($10) > floor ? $10 : floor):2:1 every ::1 with labels offset 1,0.6 left rotate by 20 font ",8"
 unset multiplot
 
+# Time per ray against the primitive count, one panel per family, from bench-scaling.csv (renders: every ray)
+# and bench-scaling-peers.csv (first hits of primary rays; POV-Ray's frame without its start-up over our
+# rays). Cells left out ("—") are not numbers and are skipped.
 set output outdir."/scaling.png"
-set terminal pngcairo size 800,560 font "DejaVu Sans,10"
-set title "Time per ray against the number of spheres (generated sphere fields; no acceleration structure)"
+set terminal pngcairo size 1500,560 font "DejaVu Sans,10"
+set multiplot layout 1,3 title "twinray bench --scaling: time per ray against primitives (one thread, CPU time; log-log)"
 set logscale xy
-set xlabel "spheres"
+set format x "10^{%L}"
+set format y "10^{%L}"
+set xlabel "primitives"
 set ylabel "ns per ray"
-set key top left
-set xrange [7:14000]
-stats scaling using 1 nooutput
-columns = STATS_columns
-plot for [column=3:columns] scaling using 1:column with linespoints lw 2 title columnhead(column)
+set xrange [5:2e6]
+set yrange [3:3e7]
+set key top left font ",8"
+in_family(family, value) = strcol(1) eq family ? value : NaN
+do for [family in "spheres fractal lattice"] {
+    set title family
+    plot scaling using 2:(in_family(family, column(3))) with linespoints lw 2 pt 7 lc rgb "#1f77b4" title "sse bvh", \
+         scaling using 2:(in_family(family, column(4))) with linespoints lw 2 pt 6 dt 2 lc rgb "#1f77b4" title "sse brute force", \
+         scaling using 2:(in_family(family, column(5))) with linespoints lw 2 pt 5 lc rgb "#d62728" title "ref<double> bvh", \
+         scaling using 2:(in_family(family, column(6))) with linespoints lw 2 pt 4 dt 2 lc rgb "#d62728" title "ref<double> brute force", \
+         peers using 2:(in_family(family, column(4))) with linespoints lw 2 pt 9 lc rgb "#2ca02c" title "sse first hit", \
+         peers using 2:(in_family(family, column(5))) with linespoints lw 2 pt 8 lc rgb "#ff7f0e" title "embree rtcIntersect1 first hit", \
+         peers using 2:(in_family(family, column(13))) with linespoints lw 2 pt 3 lc rgb "#9467bd" title "povray +WT1 - start-up, per our ray"
+}
+unset multiplot

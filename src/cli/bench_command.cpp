@@ -3,6 +3,7 @@
 #include "accuracy/ray_accuracy.h"
 #include "cli/bench_run.h"
 #include "cli/exit_codes.h"
+#include "cli/generate_scene.h"
 #include "cli/tracers.h"
 #include "compare/image_compare.h"
 #include "io/atomic_file.h"
@@ -49,6 +50,9 @@ std::vector<Timings> time_renders(const std::vector<Configuration>& configuratio
             double seconds = seconds_since(start);
             timings[i].seconds.push_back(seconds);
             timings[i].mrays.push_back(static_cast<double>(result.tally.rays) / seconds / 1e6);
+            timings[i].tracing_seconds.push_back(result.tracing_seconds);
+            timings[i].tracing_cpu_seconds.push_back(result.tracing_cpu_seconds);
+            timings[i].rays = result.tally.rays;
             if (last_images != nullptr && run + 1 == runs) {
                 (*last_images)[i] = std::move(result.image);
             }
@@ -206,7 +210,7 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
                              "povray/sse 1T",
                              "povray/sse " + std::to_string(all_threads) + "T",
                              "(povray - 1x1)/sse 1T"};
-    report.first_hit.title = "First hits of primary rays only, one thread (Mrays/s), " + setting;
+    report.first_hit.title = "First hits of primary rays only, one thread (Mrays/s, CPU time of the casts), " + setting;
     report.first_hit.headers = {
         "scene",       "rays",        "sse exact",        "sse fast", "embree rtcIntersect1", "embree rtcIntersect4",
         "sse/embree1", "sse/embree4", "hits sse - embree"};
@@ -218,39 +222,88 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
         "scene",          "tracer",       "rays, no cutoff", "rays, cutoff", "rays left out (cutoff + budget)",
         "px over budget", "s, no cutoff", "s, cutoff",       "speed-up",     "img max change",
         "max PNG levels"};
-    report.scaling.title = "Scaling: generated sphere fields, time per ray (ns, median of " +
-                           std::to_string(arguments.runs) +
-                           " runs; every ray for renders, primary rays for first hits)";
+    const std::string scaling_setting = "median of " + std::to_string(arguments.runs) + " runs, width " +
+                                        std::to_string(arguments.width) + " unless shown";
+    report.scaling.title =
+        "Scaling: time per ray (ns, CPU time of one thread, every ray: primary, shadow, "
+        "reflected, refracted; " +
+        scaling_setting + ")";
+    report.scaling.headers = {"family",
+                              "primitives",
+                              "sse bvh ns/ray",
+                              "sse brute ns/ray",
+                              "ref<double> bvh ns/ray",
+                              "ref<double> brute ns/ray",
+                              "sse bvh growth from ~100",
+                              "widths: sse bvh / brute / ref bvh / brute",
+                              "rays per pixel"};
+    report.scaling_peers.title = "Scaling against peers: first hits of primary rays (ns/ray, sse --accel " +
+                                 accel_name(arguments.accel) +
+                                 ") and whole renders (s, sse bvh) against POV-Ray 3.7 +WT1 without its start-up; "
+                                 "CPU time of one thread, " +
+                                 scaling_setting;
+    report.scaling_peers.headers = {"family",
+                                    "primitives",
+                                    "first-hit rays",
+                                    "sse first hit ns/ray",
+                                    "embree rtcIntersect1 ns/ray",
+                                    "embree/sse",
+                                    "image",
+                                    "povray +WT1 s",
+                                    "povray 1x1 s",
+                                    "povray - 1x1 s",
+                                    "sse bvh render s",
+                                    "(povray - 1x1)/sse",
+                                    "povray ns/ray"};
+    report.scaling_build.title = "Scaling: BVH build on one thread (CPU time, " + scaling_setting +
+                                 "); bytes of its nodes and leaf items per item";
+    report.scaling_build.headers = {"family",         "primitives",      "bvh items",
+                                    "bvh nodes",      "sse build ms",    "sse M items/s",
+                                    "bytes per item", "embree build ms", "embree M prims/s"};
+    report.scaling_threads.title = "Scaling: the SSE tracer with its BVH on " + std::to_string(all_threads) +
+                                   " threads against one at the largest size (wall time of the pixel loop, " +
+                                   scaling_setting + ")";
+    report.scaling_threads.headers = {
+        "family",   "primitives",          "image", "1 thread s", std::to_string(all_threads) + " threads s",
+        "speed-up", "images bit-identical"};
     return report;
 }
 
-void write_outputs(const BenchArguments& arguments, const Report& report,
-                   const std::vector<const BenchTable*>& tables) {
+// Each table with the suffix of its CSV file: the trade table is FILE itself, the others are beside it.
+struct Output {
+    const BenchTable* table;
+    const char* suffix;
+};
+
+std::vector<Output> outputs_of(const Report& report) {
+    return {{&report.trade, ""},
+            {&report.summary, "summary"},
+            {&report.process, "process"},
+            {&report.povray, "povray"},
+            {&report.first_hit, "first-hit"},
+            {&report.depth, "depth"},
+            {&report.scaling, "scaling"},
+            {&report.scaling_peers, "scaling-peers"},
+            {&report.scaling_build, "scaling-build"},
+            {&report.scaling_threads, "scaling-threads"}};
+}
+
+// The tables with rows, as Markdown in one file and as CSV: FILE, FILE-summary.csv, FILE-povray.csv, ...
+void write_outputs(const BenchArguments& arguments, const std::vector<Output>& outputs) {
     if (!arguments.markdown_path.empty()) {
         std::string text;
-        for (const BenchTable* table : tables) {
-            text += to_markdown(*table);
+        for (const Output& output : outputs) {
+            text += to_markdown(*output.table);
         }
         io::write_text_atomically(arguments.markdown_path, text);
     }
     if (!arguments.csv_path.empty()) {
-        // The trade table in FILE, the others beside it: FILE-summary.csv, FILE-povray.csv, ...
         fs::path csv(arguments.csv_path);
-        io::write_text_atomically(csv, to_csv(report.trade));
-        auto beside = [&](const char* suffix) {
-            return csv.parent_path() / (csv.stem().string() + "-" + suffix + csv.extension().string());
-        };
-        io::write_text_atomically(beside("summary"), to_csv(report.summary));
-        if (!report.process.rows.empty())
-            io::write_text_atomically(beside("process"), to_csv(report.process));
-        if (!report.povray.rows.empty())
-            io::write_text_atomically(beside("povray"), to_csv(report.povray));
-        if (!report.first_hit.rows.empty())
-            io::write_text_atomically(beside("first-hit"), to_csv(report.first_hit));
-        if (!report.depth.rows.empty())
-            io::write_text_atomically(beside("depth"), to_csv(report.depth));
-        if (!report.scaling.rows.empty())
-            io::write_text_atomically(beside("scaling"), to_csv(report.scaling));
+        for (const Output& output : outputs) {
+            std::string suffix = *output.suffix == 0 ? "" : std::string("-") + output.suffix;
+            io::write_text_atomically(csv.parent_path() / (csv.stem().string() + suffix + csv.extension().string()),
+                                      to_csv(*output.table));
+        }
     }
 }
 
@@ -259,8 +312,10 @@ int run_bench(const BenchArguments& arguments) {
         std::cerr << "twinray bench: " << reason << "\n";
         return exit_cpu_unsupported;
     }
-    std::vector<std::string> scene_paths = arguments.scenes.empty() ? default_scenes() : arguments.scenes;
-    if (scene_paths.empty()) {
+    std::vector<std::string> scene_paths = arguments.scaling_only     ? std::vector<std::string>{}
+                                           : arguments.scenes.empty() ? default_scenes()
+                                                                      : arguments.scenes;
+    if (scene_paths.empty() && !arguments.scaling_only) {
         std::cerr << "twinray bench: no scenes given and no scenes/*.json in the current folder\n";
         return exit_usage;
     }
@@ -301,30 +356,25 @@ int run_bench(const BenchArguments& arguments) {
         }
         std::fputs(".", stderr);
     }
-    add_summary(configurations, summaries, report);
-    if (arguments.scaling) {
-        bench_scaling(arguments, all_threads, report);
+    if (!scenes.empty()) {
+        add_summary(configurations, summaries, report);
+        std::fputs("\n", stderr);
     }
-    std::fputs("\n", stderr);
-    std::vector<const BenchTable*> tables = {&report.trade, &report.summary};
-    if (!report.process.rows.empty())
-        tables.push_back(&report.process);
-    if (!report.povray.rows.empty())
-        tables.push_back(&report.povray);
-    if (!report.first_hit.rows.empty())
-        tables.push_back(&report.first_hit);
-    if (!report.depth.rows.empty())
-        tables.push_back(&report.depth);
-    if (!report.scaling.rows.empty())
-        tables.push_back(&report.scaling);
-    for (const BenchTable* table : tables) {
-        std::fputs(to_console(*table).c_str(), stdout);
+    if (arguments.scaling || arguments.scaling_only) {
+        bench_scaling(arguments, all_threads, povray, report);
+    }
+    std::vector<Output> outputs;
+    for (const Output& output : outputs_of(report)) {
+        if (!output.table->rows.empty()) {
+            outputs.push_back(output);
+            std::fputs(to_console(*output.table).c_str(), stdout);
+        }
     }
     if (arguments.peers && !povray) {
         std::puts("POV-Ray: not installed (no povray on PATH), so no POV-Ray table.");
     }
     try {
-        write_outputs(arguments, report, tables);
+        write_outputs(arguments, outputs);
     } catch (const io::FileWriteError& error) {
         std::cerr << "twinray bench: " << error.what() << "\n";
         return exit_output_error;
@@ -344,7 +394,8 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
         "bench",
         "Speed against accuracy: every tracer and precision knob on each scene, against reference<double>, POV-Ray "
         "and Embree; and the whole process (start-up, loading, writing)");
-    command->add_option("scenes", arguments->scenes, "Scene files (default: every scenes/*.json)");
+    CLI::Option* scenes =
+        command->add_option("scenes", arguments->scenes, "Scene files (default: every scenes/*.json)");
     command->add_option("--runs", arguments->runs, "Runs; each renders every configuration once; medians are reported")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
@@ -356,7 +407,15 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
     command->add_option("--threads", arguments->threads, "Threads of the multi-threaded columns (default: all cores)")
         ->check(CLI::Range(1, 1024));
     command->add_flag("--scaling", arguments->scaling,
-                      "Also time generated sphere fields of 10, 100, 1000 and 10000 spheres (about a minute)");
+                      "Also time scenes of 10 to 1000000 primitives (a sphere field, the sphereflake, a lattice of "
+                      "cylinders): both tracers with and without their BVH, Embree, POV-Ray, the BVH's build, threads");
+    command->add_flag("--scaling-only", arguments->scaling_only, "The scaling tables alone: no scene is rendered")
+        ->excludes(scenes);
+    command
+        ->add_option("--scaling-max", arguments->scaling_max,
+                     "The largest size --scaling asks for (10, 100, ... up to it; 100000 for a quicker run)")
+        ->check(CLI::Range(10, max_generated_primitives))
+        ->capture_default_str();
     command->add_flag("!--no-peers", arguments->peers, "Leave out POV-Ray and the first-hit table (Embree)");
     add_accel_option(*command, arguments->accel);
     command->add_option("--csv", arguments->csv_path,

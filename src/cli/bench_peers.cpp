@@ -1,15 +1,14 @@
-// `twinray bench` against its peers: POV-Ray 3.7 per frame, Embree 3 per first hit, and generated
-// sphere fields of growing size.
+// `twinray bench` against its peers: POV-Ray 3.7 per frame, Embree 3 per first hit.
 #include "cli/bench_run.h"
 #include "cli/tracers.h"
 #include "pov/exporter.h"
 #include "pov/povray_runner.h"
-#include "scene/sphere_field.h"
 #include "sse/tracer.h"
 #if TWINRAY_WITH_EMBREE
 #include "peers/embree_peer.h"
 #endif
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cstdint>
@@ -21,31 +20,60 @@ namespace twinray::cli::bench {
 
 namespace fs = std::filesystem;
 
-// Wall time per frame (process start-up included, about 0.7 s of it).
-void bench_povray(const std::string& name, const scene::Scene& scene, const BenchArguments& arguments,
-                  const fs::path& povray, int all_threads, const std::vector<double>& sse_seconds, Report& report) {
-    scene::ImageSize size = scene::resolve_image_size(scene, arguments.width, 0);
+namespace {
+
+// CPU time (user + system) of the child processes waited for so far: POV-Ray's, once render_with_povray
+// returns.
+double children_cpu_seconds() {
+    rusage usage{};
+    getrusage(RUSAGE_CHILDREN, &usage);
+    auto seconds = [](const timeval& t) {
+        return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+    };
+    return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
+}  // namespace
+
+PovrayTimes time_povray(const std::string& name, const scene::Scene& scene, int width, int runs, const fs::path& povray,
+                        const std::vector<int>& threads) {
+    scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
     fs::path folder = fs::temp_directory_path() / ("twinray-bench-povray-" + std::to_string(::getpid()));
     fs::create_directories(folder);
     std::string pov_text = pov::export_pov(scene, size.width, size.height);
-    // The same scene at 1 x 1 pixel: POV-Ray's start-up and parse, the fixed cost inside every frame time.
     std::string tiny_text = pov::export_pov(scene, 1, 1);
-    std::vector<double> seconds[3];
-    for (int run = 0; run < arguments.runs; ++run) {
-        for (int k = 0; k < 3; ++k) {
+    const std::size_t frames = threads.size();
+    std::vector<std::vector<double>> wall(frames + 1), cpu(frames + 1);  // the last: 1 x 1
+    for (int run = 0; run < runs; ++run) {
+        for (std::size_t k = 0; k <= frames; ++k) {
             auto start = std::chrono::steady_clock::now();
-            if (k < 2) {
-                pov::render_with_povray(povray, folder, name, pov_text, size.width, size.height,
-                                        k == 0 ? 1 : all_threads);
+            double cpu_start = children_cpu_seconds();
+            if (k < frames) {
+                pov::render_with_povray(povray, folder, name, pov_text, size.width, size.height, threads[k]);
             } else {
                 // Its own file name: OpenImageIO caches images by name, and the size differs.
                 pov::render_with_povray(povray, folder, name + "-1x1", tiny_text, 1, 1, 1);
             }
-            seconds[k].push_back(seconds_since(start));
+            wall[k].push_back(seconds_since(start));
+            cpu[k].push_back(children_cpu_seconds() - cpu_start);
         }
     }
     fs::remove_all(folder);
-    double one = median(seconds[0]), all = median(seconds[1]), start_up = median(seconds[2]);
+    PovrayTimes times;
+    for (std::size_t k = 0; k < frames; ++k) {
+        times.frame_wall.push_back(median(wall[k]));
+        times.frame_cpu.push_back(median(cpu[k]));
+    }
+    times.start_up_wall = median(wall[frames]);
+    times.start_up_cpu = median(cpu[frames]);
+    return times;
+}
+
+// Wall time per frame (process start-up included, about 0.7 s of it).
+void bench_povray(const std::string& name, const scene::Scene& scene, const BenchArguments& arguments,
+                  const fs::path& povray, int all_threads, const std::vector<double>& sse_seconds, Report& report) {
+    PovrayTimes times = time_povray(name, scene, arguments.width, arguments.runs, povray, {1, all_threads});
+    double one = times.frame_wall[0], all = times.frame_wall[1], start_up = times.start_up_wall;
     report.povray.add_row({name, cell("%.3f", one), cell("%.3f", all), cell("%.3f", start_up),
                            cell("%.4f", sse_seconds[0]), cell("%.4f", sse_seconds[1]),
                            cell("%.1f", one / sse_seconds[0]), cell("%.1f", all / sse_seconds[1]),
@@ -62,9 +90,9 @@ void bench_first_hits(const std::string& name, const scene::Scene& scene, int wi
     sse::FirstHits hits;
     for (int run = 0; run < runs; ++run) {
         hits = sse::cast_primary_rays(scene, options);
-        exact.push_back(static_cast<double>(hits.rays) / hits.seconds / 1e6);
+        exact.push_back(static_cast<double>(hits.rays) / hits.tracing_cpu_seconds / 1e6);
         sse::FirstHits fast_hits = sse::cast_primary_rays(scene, options, all_fast_knobs());
-        fast.push_back(static_cast<double>(fast_hits.rays) / fast_hits.seconds / 1e6);
+        fast.push_back(static_cast<double>(fast_hits.rays) / fast_hits.tracing_cpu_seconds / 1e6);
     }
     std::vector<std::string> row = {name, std::to_string(hits.rays), cell("%.2f", median(exact)),
                                     cell("%.2f", median(fast))};
@@ -94,56 +122,6 @@ void bench_first_hits(const std::string& name, const scene::Scene& scene, int wi
     row.insert(row.end(), {"not built", "", "", "", ""});
 #endif
     report.first_hit.add_row(row);
-}
-
-void bench_scaling(const BenchArguments& arguments, int all_threads, Report& report) {
-    const std::vector<Configuration> configurations = {
-        {"ref<double>", "reference", {}, 1},
-        {"ref<float>", "reference-float", {}, 1},
-        {"sse exact", "sse", {}, 1},
-        {"sse fast", "sse", all_fast_knobs(), 1},
-        {"sse exact " + std::to_string(all_threads) + "T", "sse", {}, all_threads},
-    };
-    report.scaling.headers = {"spheres", "image"};
-    for (const Configuration& configuration : configurations) {
-        report.scaling.headers.push_back(configuration.label + " ns/ray");
-    }
-    report.scaling.headers.push_back("sse first hit ns/ray");
-#if TWINRAY_WITH_EMBREE
-    report.scaling.headers.push_back("embree rtcIntersect1 ns/ray");
-#endif
-    const std::pair<int, int> family[] = {{10, 320}, {100, 320}, {1000, 160}, {10000, 80}};
-    for (auto [count, width] : family) {
-        scene::Scene scene = scene::sphere_field(count);
-        scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
-        std::vector<std::string> row = {std::to_string(count),
-                                        std::to_string(size.width) + "x" + std::to_string(size.height)};
-        for (const Timings& timing :
-             time_renders(configurations, scene, width, arguments.runs, nullptr, arguments.accel)) {
-            row.push_back(cell("%.1f", 1e3 / median(timing.mrays)));
-        }
-        RenderOptions options;
-        options.width = width;
-        options.threads = 1;
-        options.accel = arguments.accel;
-        std::vector<double> first_hit;
-        for (int run = 0; run < arguments.runs; ++run) {
-            sse::FirstHits hits = sse::cast_primary_rays(scene, options);
-            first_hit.push_back(hits.seconds * 1e9 / static_cast<double>(hits.rays));
-        }
-        row.push_back(cell("%.1f", median(first_hit)));
-#if TWINRAY_WITH_EMBREE
-        peers::EmbreePeer embree(scene, width);
-        std::vector<double> single;
-        for (int run = 0; run < arguments.runs; ++run) {
-            peers::FirstHitRun one = embree.cast_single();
-            single.push_back(one.seconds * 1e9 / static_cast<double>(one.rays));
-        }
-        row.push_back(cell("%.1f", median(single)));
-#endif
-        report.scaling.add_row(row);
-        std::fputs(".", stderr);
-    }
 }
 
 }  // namespace twinray::cli::bench

@@ -1,6 +1,6 @@
 // What the parts of `twinray bench` share: its arguments, the configurations it times, its tables and
-// the timing helpers (bench_command.cpp: speed against accuracy; bench_peers.cpp: POV-Ray, Embree and
-// the generated scenes; bench_process.cpp: the whole process).
+// the timing helpers (bench_command.cpp: speed against accuracy; bench_peers.cpp: POV-Ray and Embree;
+// bench_scaling.cpp: scenes of growing size; bench_process.cpp: the whole process).
 #pragma once
 
 #include "cli/bench_table.h"
@@ -9,7 +9,9 @@
 #include "sse/tracer.h"
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,8 @@ struct BenchArguments {
     int threads = 0;
     int width = 640;
     bool scaling = false;
+    bool scaling_only = false;    // the scaling tables alone, no scene of `scenes`
+    int scaling_max = 1'000'000;  // the largest size the scaling asks a family for
     bool peers = true;
     std::string csv_path;
     std::string markdown_path;
@@ -35,7 +39,9 @@ struct Configuration {
 };
 
 struct Report {
-    BenchTable trade, summary, process, povray, first_hit, scaling, depth;
+    BenchTable trade, summary, process, povray, first_hit, depth;
+    // --scaling: time per ray, first hits against Embree and renders against POV-Ray, the BVH's build, threads.
+    BenchTable scaling, scaling_peers, scaling_build, scaling_threads;
 };
 
 // Every knob that can buy speed (--precision fast); dpps is the thesis's choice, timed on its own.
@@ -50,15 +56,28 @@ inline double seconds_since(std::chrono::steady_clock::time_point start) {
 }
 
 // Speeds of one configuration over the runs (Mrays/s), its per-run ratios to the first
-// configuration's, and seconds per frame.
+// configuration's, and seconds per frame (the whole render call); the pixel loop's wall and CPU seconds
+// alone (RenderResult), and the rays of a frame.
 struct Timings {
     std::vector<double> mrays, speedups, seconds;
+    std::vector<double> tracing_seconds, tracing_cpu_seconds;
+    std::uint64_t rays = 0;
 };
 
 // Every configuration renders once per run, in turn, so a slow spell of the shared machine weighs on
 // both sides of a ratio instead of on one column; each ratio is the median of per-run ratios.
 std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene,
                                   int width, int runs, std::vector<Image>* last_images, Accel accel = Accel::automatic);
+
+// POV-Ray 3.7 on `scene` exported at `width`, median of `runs`: a frame on each of `threads`, and the same
+// scene at 1 x 1 pixel (its start-up, parse and bounding, the fixed cost inside every frame); the runs take
+// the frames in turn. Wall time, and CPU time (user + system) of POV-Ray's process.
+struct PovrayTimes {
+    std::vector<double> frame_wall, frame_cpu;  // per entry of `threads`
+    double start_up_wall = 0, start_up_cpu = 0;
+};
+PovrayTimes time_povray(const std::string& name, const scene::Scene& scene, int width, int runs,
+                        const std::filesystem::path& povray, const std::vector<int>& threads);
 
 // POV-Ray 3.7 on the same scene exported at the same size, against the SSE tracer's seconds per frame
 // on one thread and on all.
@@ -68,8 +87,11 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
 // First hits of primary rays only: the SSE tracer (exact and --precision fast) against Embree 3.
 void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Accel accel,
                       Report& report);
-// The generated sphere field: time per ray as the scene grows, at a resolution that shrinks with it.
-void bench_scaling(const BenchArguments& arguments, int all_threads, Report& report);
+// Scenes of 10 to arguments.scaling_max primitives (a sphere field, the sphereflake, a lattice of cylinders):
+// both tracers with and without their BVH, first hits against Embree, whole renders against POV-Ray (when
+// `povray` is given), the BVH's build, and one thread against all (bench_scaling.cpp).
+void bench_scaling(const BenchArguments& arguments, int all_threads, const std::optional<std::filesystem::path>& povray,
+                   Report& report);
 
 // With mirrors or glass: rays, seconds and image change of the proven cutoff against none (min_weight 0), both
 // tracers on one thread.

@@ -19,6 +19,7 @@ struct EmbreeFunctions {
     void (*destroy)(void* state);
     FirstHitRun (*cast_single)(const void* state);
     FirstHitRun (*cast_packets)(const void* state);
+    double (*build_seconds)(const void* state);
 };
 
 }  // namespace twinray::peers

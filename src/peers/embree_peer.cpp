@@ -37,7 +37,7 @@ struct EmbreePeer::State {
 
 EmbreePeer::EmbreePeer(const scene::Scene& scene, int width) {
     const scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
-    const sse::Tracer camera(scene);
+    const sse::Tracer camera(scene, {}, Accel::none);  // for its camera only: no BVH to build
     std::vector<sse::Ray> rays;
     rays.reserve(static_cast<std::size_t>(size.width) * static_cast<std::size_t>(size.height));
     for (int y = 0; y < size.height; ++y) {
@@ -57,6 +57,10 @@ FirstHitRun EmbreePeer::cast_single() const {
 
 FirstHitRun EmbreePeer::cast_packets() const {
     return state_->module.cast_packets(state_->embree);
+}
+
+double EmbreePeer::build_seconds() const {
+    return state_->module.build_seconds(state_->embree);
 }
 
 }  // namespace twinray::peers

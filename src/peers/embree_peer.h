@@ -17,14 +17,15 @@ namespace twinray::peers {
 std::string embree_unsupported_reason(const scene::Scene& scene);
 
 struct FirstHitRun {
-    double seconds = 0;  // the casts alone: rays are made before the clock starts
+    double seconds = 0;  // CPU time of the casts alone: rays are made before the clock starts
     std::uint64_t rays = 0;
     std::uint64_t hits = 0;
 };
 
 class EmbreePeer {
 public:
-    // The scene at `width` (height by its aspect). Throws std::runtime_error if Embree fails.
+    // The scene at `width` (height by its aspect), on an Embree device of one thread. Throws
+    // std::runtime_error if Embree fails.
     EmbreePeer(const scene::Scene& scene, int width);
     ~EmbreePeer();
     EmbreePeer(const EmbreePeer&) = delete;
@@ -32,6 +33,8 @@ public:
 
     FirstHitRun cast_single() const;   // rtcIntersect1 per ray
     FirstHitRun cast_packets() const;  // rtcIntersect4 per 2 × 2 pixels
+    // CPU time of building Embree's scene (its geometries and BVH) on one thread, as the constructor did.
+    double build_seconds() const;
 
 private:
     struct State;

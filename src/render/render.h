@@ -78,7 +78,13 @@ struct RenderResult {
     // Wall time of the pixel loop alone: what render() spends before it (building the tracer, compiling the
     // scene) is left out, so tracers are timed on tracing.
     double tracing_seconds = 0;
+    // CPU time (user + system, every thread's) of the same loop: on a busy machine a one-thread figure that
+    // does not count waiting for a core.
+    double tracing_cpu_seconds = 0;
 };
+
+// CPU time (user + system) the process has used so far, every thread's.
+double process_cpu_seconds();
 
 int resolve_thread_count(int requested);
 

@@ -125,7 +125,9 @@ private:
     // The BVH over `bounded`; the rest in the flat lists every ray tests, in their compiled order.
     static void add_bvh(CompiledScene& out, const std::vector<BvhInput>& bounded,
                         const std::vector<BvhItem>& unbounded) {
+        const double cpu_start = process_cpu_seconds();
         out.bvh = build_bvh(bounded);
+        out.bvh_build_cpu_seconds = process_cpu_seconds() - cpu_start;
         std::uint32_t list_index = 0;
         out.primitives.for_each_pair(out.unbounded, [&](const auto& all, auto& kept) {
             for (const BvhItem& item : unbounded) {

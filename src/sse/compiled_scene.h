@@ -180,6 +180,7 @@ struct CompiledScene {
     // With a BVH (its nodes not empty), the bounded primitives and CSG objects are found through it and only
     // the rest (planes, unbounded CSG objects) are tested by every ray.
     Bvh bvh;
+    double bvh_build_cpu_seconds = 0;  // build_bvh alone (one thread), for twinray bench
     PrimitiveLists unbounded;
     std::vector<std::int32_t> unbounded_csg;  // indices into csg_objects, ascending
 

@@ -113,6 +113,11 @@ Tracer::Tracer(const scene::Scene& scene, const Precision& precision, Accel acce
 
 Tracer::~Tracer() = default;
 
+BvhStats Tracer::bvh_stats() const {
+    const Bvh& bvh = scene_->bvh;
+    return {bvh.items.size(), bvh.nodes.size(), bvh_bytes(bvh), scene_->bvh_build_cpu_seconds};
+}
+
 std::optional<Hit> Tracer::intersect(const Ray& world_ray) const {
     RelativeRay ray = relative_to(*scene_, world_ray);
     if (!math::is_traceable(ray.origin, ray.direction)) {
@@ -178,6 +183,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
     Tracer tracer(scene, precision, options.accel);
     Image image(size.width, size.height);
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_seconds();
     TraceTally tally = with_precision_policy(precision, [&](auto policy) {
         using P = decltype(policy);
         PacketTracer<P> packets(tracer.compiled());
@@ -211,13 +217,14 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
                 return tile_tally;
             });
     });
-    return {std::move(image), tally, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+    return {std::move(image), tally, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+            process_cpu_seconds() - cpu_start};
 }
 
 FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
     Tracer tracer(scene, precision, options.accel);
-    auto start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_seconds();
     std::uint64_t hits = with_precision_policy(precision, [&](auto policy) {
         using P = decltype(policy);
         PacketTracer<P> packets(tracer.compiled());
@@ -233,7 +240,7 @@ FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& opti
                                             });
     });
     return {static_cast<std::uint64_t>(size.width) * static_cast<std::uint64_t>(size.height), hits,
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+            process_cpu_seconds() - cpu_start};
 }
 
 }  // namespace twinray::sse

@@ -71,6 +71,14 @@ scene::Vec3 origin_of(const scene::Scene& scene);
 
 struct CompiledScene;
 
+// What a tracer's BVH holds and cost to build (all zero without one), for `twinray bench --scaling`.
+struct BvhStats {
+    std::size_t items = 0;  // bounded primitives and CSG objects in its leaves
+    std::size_t nodes = 0;
+    std::size_t bytes = 0;  // nodes and leaf items (sse::bvh_bytes)
+    double build_cpu_seconds = 0;
+};
+
 class Tracer {
 public:
     explicit Tracer(const scene::Scene& scene, const Precision& precision = {}, Accel accel = Accel::automatic);
@@ -90,6 +98,7 @@ public:
     Ray primary_ray(int x, int y, int width, int height) const;
 
     const CompiledScene& compiled() const { return *scene_; }
+    BvhStats bvh_stats() const;
 
 private:
     std::unique_ptr<CompiledScene> scene_;
@@ -104,7 +113,8 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options, con
 struct FirstHits {
     std::uint64_t rays = 0;
     std::uint64_t hits = 0;
-    double seconds = 0;  // the casts alone, as Embree's are timed: compiling and building the BVH come before
+    // CPU time of the casts alone, as RenderResult's: building the tracer is left out.
+    double tracing_cpu_seconds = 0;
 };
 FirstHits cast_primary_rays(const scene::Scene& scene, const RenderOptions& options, const Precision& precision = {});
 
