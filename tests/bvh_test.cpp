@@ -4,7 +4,6 @@
 // the same t bit for bit, and every image is the same bit for bit, as brute force; the tree is the same
 // every time it is built, and no deeper than its traversal stack. Built with -msse4.1: it reads the compiled
 // scene's node array.
-#include "cli/generate_scene.h"
 #include "reference/tracer.h"
 #include "render/render.h"
 #include "scene/loader.h"
@@ -12,6 +11,7 @@
 #include "sse/compiled_scene.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
+#include "tests/generated_scene.h"
 
 #include <gtest/gtest.h>
 
@@ -30,12 +30,7 @@ using twinray::RenderOptions;
 using twinray::RenderResult;
 using twinray::SplitMix64;
 using twinray::scene::Scene;
-
-Scene generated(const std::string& family, int size) {
-    std::string text;
-    twinray::cli::generate_scene(family, size, 1, [&](std::string_view piece) { text.append(piece); });
-    return twinray::scene::parse_scene(text, family);
-}
+using twinray::test::generated_scene;
 
 // A scene of the given objects (JSON, one per element) over a floor, with opaque, mirror and glass materials
 // so that shadow, reflected and refracted rays all run, and two lights.
@@ -197,7 +192,7 @@ protected:
 
 TEST_F(Bvh, ImagesOfGeneratedScenesAreBitIdenticalToBruteForce) {
     for (const char* family : {"fractal", "field", "lattice", "csg"}) {
-        Scene scene = generated(family, 3000);
+        Scene scene = generated_scene(family, 3000);
         scene.width = 96;
         scene.height = 64;
         expect_images_identical(family, scene);
@@ -214,8 +209,8 @@ TEST_F(Bvh, ImagesOfHardScenesAreBitIdenticalToBruteForce) {
 // normal bit for bit, and the same colour of the whole ray tree (shadow, reflected and refracted rays).
 TEST_F(Bvh, EveryRayFindsTheSameNearestHitAsBruteForce) {
     std::vector<std::pair<std::string, Scene>> scenes = hard_scenes();
-    scenes.emplace_back("field", generated("field", 3000));
-    scenes.emplace_back("csg", generated("csg", 3000));
+    scenes.emplace_back("field", generated_scene("field", 3000));
+    scenes.emplace_back("csg", generated_scene("csg", 3000));
     SplitMix64 random(11);
     for (const auto& [name, scene] : scenes) {
         twinray::sse::Tracer brute(scene, {}, Accel::none);
@@ -245,7 +240,7 @@ TEST_F(Bvh, EveryRayFindsTheSameNearestHitAsBruteForce) {
 }
 
 TEST_F(Bvh, FastPrecisionImagesAreBitIdenticalWithAndWithoutBvh) {
-    Scene scene = generated("csg", 2000);
+    Scene scene = generated_scene("csg", 2000);
     scene.width = 96;
     scene.height = 64;
     twinray::sse::Precision fast{true, true, false, true, true};
@@ -258,7 +253,7 @@ TEST_F(Bvh, FastPrecisionImagesAreBitIdenticalWithAndWithoutBvh) {
 }
 
 TEST_F(Bvh, BuildIsDeterministicAndRenderingIsTheSameOnAnyThreadCount) {
-    Scene scene = generated("fractal", 7000);
+    Scene scene = generated_scene("fractal", 7000);
     twinray::sse::CompiledScene first = twinray::sse::compile(scene, Accel::bvh);
     twinray::sse::CompiledScene second = twinray::sse::compile(scene, Accel::bvh);
     EXPECT_FALSE(first.bvh.empty());
@@ -349,7 +344,7 @@ TEST_F(Bvh, BuildTimeAndBytesPerPrimitiveAtEachScale) {
     };
     for (const char* family : {"field", "fractal"}) {
         for (int size : {100, 1000, 10000, 100000}) {
-            Scene scene = generated(family, size);
+            Scene scene = generated_scene(family, size);
             twinray::sse::CompiledScene compiled = twinray::sse::compile(scene, Accel::bvh);
             std::size_t items = compiled.bvh.items.size();
             double bytes_per_item =
@@ -369,8 +364,8 @@ TEST_F(Bvh, BuildTimeAndBytesPerPrimitiveAtEachScale) {
 // the same hit, t, leaf and colour for random rays, as the reference testing every object.
 TEST(ReferenceBvh, ImagesAreBitIdenticalWithAndWithoutIt) {
     std::vector<std::pair<std::string, Scene>> scenes = hard_scenes();
-    scenes.emplace_back("csg", generated("csg", 1000));
-    scenes.emplace_back("lattice", generated("lattice", 1000));
+    scenes.emplace_back("csg", generated_scene("csg", 1000));
+    scenes.emplace_back("lattice", generated_scene("lattice", 1000));
     for (auto& [name, scene] : scenes) {
         RenderOptions options;
         options.threads = 2;
