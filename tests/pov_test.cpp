@@ -570,4 +570,14 @@ TEST_F(PovCommand, DiffWithPovAddsPovRaysImageAndErrorMapAsAThirdColumn) {
     EXPECT_TRUE(contains(html, "within 2/255 of the reference")) << html;
 }
 
+// POV-Ray runs from inside its work folder: an output folder given relative to where twinray was started
+// must still hold its scene, log and image (it once failed with "Directory nonexistent", status 70).
+TEST_F(PovCommand, DiffWithPovWritesIntoAnOutputFolderGivenRelativeToTheWorkingDirectory) {
+    CommandResult result =
+        run_twinray("diff " + std::string(TWINRAY_SOURCE_DIR) + "/scenes/spheres.json --pov --width 32 -o report",
+                    "cd '" + folder_.string() + "' &&");
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_TRUE(fs::exists(folder_ / "report" / "spheres" / "povray.png")) << result.output;
+}
+
 }  // namespace

@@ -45,13 +45,15 @@ std::optional<fs::path> find_povray() {
 
 Image render_with_povray(const fs::path& povray, const fs::path& folder, const std::string& name,
                          const std::string& pov_text, int width, int height, int threads) {
-    fs::path scene = folder / (name + ".pov");
-    fs::path image = folder / (name + ".png");
-    fs::path log = folder / (name + ".log");
-    fs::path ini = folder / "empty.ini";
+    // Absolute: the command runs POV-Ray from inside the folder, and its log is written from there too.
+    const fs::path where = fs::absolute(folder);
+    fs::path scene = where / (name + ".pov");
+    fs::path image = where / (name + ".png");
+    fs::path log = where / (name + ".log");
+    fs::path ini = where / "empty.ini";
     std::ofstream(scene) << pov_text;
     std::ofstream(ini).flush();
-    std::string command = "cd " + quoted(folder) + " && POVINI=" + quoted(ini) + " " + quoted(povray) + " +I" +
+    std::string command = "cd " + quoted(where) + " && POVINI=" + quoted(ini) + " " + quoted(povray) + " +I" +
                           quoted(scene) + " +O" + quoted(image) + " +W" + std::to_string(width) + " +H" +
                           std::to_string(height) + " -D -A -UA +FN8 File_Gamma=1.0 +WT" + std::to_string(threads) +
                           " -GS -GR -GD > " + quoted(log) + " 2>&1";
