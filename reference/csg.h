@@ -57,7 +57,9 @@ SpanList<T> sweep(const SpanList<T>& a, const SpanList<T>& b, Inside inside) {
     bool in[2] = {false, false};
     Crossing<T> open_enter;
     for (std::size_t first = 0; first < events.size();) {
-        std::size_t last = first;
+        // The first event is taken even if its t is NaN (a ray made of NaNs), which equals nothing: every
+        // pass takes one event at least, so the sweep ends.
+        std::size_t last = first + 1;
         while (last < events.size() && events[last].crossing.t == events[first].crossing.t) {
             ++last;
         }

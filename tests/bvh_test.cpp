@@ -8,8 +8,11 @@
 #include "render/render.h"
 #include "scene/loader.h"
 #include "scene/portable_random.h"
+#include "scene_json.h"
 #include "sse/compiled_scene.h"
 #include "sse/cpu.h"
+#include "sse/nearest_hit.h"
+#include "sse/shadow.h"
 #include "sse/tracer.h"
 #include "tests/generated_scene.h"
 
@@ -31,6 +34,7 @@ using twinray::RenderResult;
 using twinray::SplitMix64;
 using twinray::scene::Scene;
 using twinray::test::generated_scene;
+namespace json = twinray::test::json;
 
 // A scene of the given objects (JSON, one per element) over a floor, with opaque, mirror and glass materials
 // so that shadow, reflected and refracted rays all run, and two lights.
@@ -59,28 +63,15 @@ const char* material_of(std::size_t i) {
 }
 
 std::string sphere(double x, double y, double z, double radius, std::size_t i) {
-    char text[256];
-    std::snprintf(text, sizeof text,
-                  R"({"type": "sphere", "center": [%.17g, %.17g, %.17g], "radius": %.17g, "material": "%s"})", x, y, z,
-                  radius, material_of(i));
-    return text;
+    return json::sphere({x, y, z}, radius, material_of(i));
 }
 
 std::string box(double x, double y, double z, double half, std::size_t i) {
-    char text[320];
-    std::snprintf(text, sizeof text,
-                  R"({"type": "box", "min": [%.17g, %.17g, %.17g], "max": [%.17g, %.17g, %.17g], "material": "%s"})",
-                  x - half, y - half, z - half, x + half, y + half, z + half, material_of(i));
-    return text;
+    return json::box({x - half, y - half, z - half}, {x + half, y + half, z + half}, material_of(i));
 }
 
 std::string cylinder(double x, double y, double z, double length, double radius, std::size_t i) {
-    char text[320];
-    std::snprintf(
-        text, sizeof text,
-        R"({"type": "cylinder", "base": [%.17g, %.17g, %.17g], "cap": [%.17g, %.17g, %.17g], "radius": %.17g, "material": "%s"})",
-        x, y, z, x + length, y + 0.5 * length, z, radius, material_of(i));
-    return text;
+    return json::cylinder({x, y, z}, {x + length, y + 0.5 * length, z}, radius, material_of(i));
 }
 
 // The hard cases, each over the bvh crossover.
@@ -134,19 +125,15 @@ std::vector<std::pair<std::string, Scene>> hard_scenes() {
     }
     for (std::size_t i = 0; i < 40; ++i) {
         double x = random.uniform(-8, 8), y = random.uniform(-8, 8), z = random.uniform(-8, 8);
-        objects.push_back(R"({"type": "difference", "material": ")" + std::string(material_of(i)) +
-                          R"(", "children": [)" + box(x, y, z, 1, i) + ", " +
-                          sphere(x + 0.5, y + 0.5, z + 0.5, 0.9, i) + "]}");
+        objects.push_back(
+            json::csg("difference", {box(x, y, z, 1, i), sphere(x + 0.5, y + 0.5, z + 0.5, 0.9, i)}, material_of(i)));
     }
-    objects.push_back(
-        R"({"type": "difference", "material": "glass", "children": [{"type": "plane", "normal": [0, 0, 1], "offset": -9}, )" +
-        sphere(0, 0, -9, 3, 0) + "]}");
+    objects.push_back(json::csg("difference", {json::plane({0, 0, 1}, -9, ""), sphere(0, 0, -9, 3, 0)}, "glass"));
     scenes.emplace_back("CSG among thousands", scene_of(objects));
     objects.clear();
     // 100 CSG objects at one place, among 300 spheres: more than a packet's CSG candidates hold (64).
     for (std::size_t i = 0; i < 100; ++i) {
-        objects.push_back(R"({"type": "difference", "material": ")" + std::string(material_of(i)) +
-                          R"(", "children": [)" + box(0, 0, 0, 3, i) + ", " + sphere(1, 1, 1, 2.5, i) + "]}");
+        objects.push_back(json::csg("difference", {box(0, 0, 0, 3, i), sphere(1, 1, 1, 2.5, i)}, material_of(i)));
         for (std::size_t j = 0; j < 3; ++j) {
             objects.push_back(sphere(random.uniform(-9, 9), random.uniform(-9, 9), random.uniform(-9, 9), 0.5, j));
         }
@@ -205,8 +192,26 @@ TEST_F(Bvh, ImagesOfHardScenesAreBitIdenticalToBruteForce) {
     }
 }
 
-// Random rays from inside and around each scene, through the per-ray API: the same hit, t, leaf and
-// normal bit for bit, and the same colour of the whole ray tree (shadow, reflected and refracted rays).
+// Through the per-ray API: the same hit, t, leaf and normal bit for bit, and the same colour of the whole
+// ray tree (shadow, reflected and refracted rays). Returns whether the ray hit something.
+bool expect_same_answers(const twinray::sse::Tracer& brute, const twinray::sse::Tracer& bvh,
+                         const twinray::sse::Ray& ray, const std::string& label) {
+    std::optional<twinray::sse::Hit> a = brute.intersect(ray);
+    std::optional<twinray::sse::Hit> b = bvh.intersect(ray);
+    EXPECT_EQ(a.has_value(), b.has_value()) << label;
+    if (a && b) {
+        EXPECT_EQ(a->leaf, b->leaf) << label;
+        EXPECT_EQ(std::memcmp(&a->t, &b->t, sizeof(float)), 0) << label << ": t " << a->t << " and " << b->t;
+        EXPECT_EQ(std::memcmp(&a->normal, &b->normal, sizeof(a->normal)), 0) << label;
+    }
+    twinray::sse::Color ca = brute.trace(ray, 1);
+    twinray::sse::Color cb = bvh.trace(ray, 1);
+    EXPECT_EQ(std::memcmp(&ca, &cb, sizeof(ca)), 0)
+        << label << ": colour " << ca.x << " " << ca.y << " " << ca.z << " and " << cb.x << " " << cb.y << " " << cb.z;
+    return a.has_value();
+}
+
+// Random rays from inside and around each scene.
 TEST_F(Bvh, EveryRayFindsTheSameNearestHitAsBruteForce) {
     std::vector<std::pair<std::string, Scene>> scenes = hard_scenes();
     scenes.emplace_back("field", generated_scene("field", 3000));
@@ -222,20 +227,149 @@ TEST_F(Bvh, EveryRayFindsTheSameNearestHitAsBruteForce) {
             twinray::Vec3d direction(random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-1, 1));
             direction = (1.0 / std::sqrt(twinray::math::dot(direction, direction))) * direction;
             twinray::sse::Ray ray{origin, twinray::sse::Vec3(direction)};
-            std::optional<twinray::sse::Hit> a = brute.intersect(ray);
-            std::optional<twinray::sse::Hit> b = bvh.intersect(ray);
-            ASSERT_EQ(a.has_value(), b.has_value()) << name << " ray " << i;
-            if (a) {
-                ++hits;
-                EXPECT_EQ(a->leaf, b->leaf) << name << " ray " << i;
-                EXPECT_EQ(std::memcmp(&a->t, &b->t, sizeof(float)), 0) << name << " ray " << i;
-                EXPECT_EQ(std::memcmp(&a->normal, &b->normal, sizeof(a->normal)), 0) << name << " ray " << i;
-            }
-            twinray::sse::Color ca = brute.trace(ray, 1);
-            twinray::sse::Color cb = bvh.trace(ray, 1);
-            EXPECT_EQ(std::memcmp(&ca, &cb, sizeof(ca)), 0) << name << " ray " << i;
+            hits += expect_same_answers(brute, bvh, ray, name + " ray " + std::to_string(i)) ? 1 : 0;
         }
         std::printf("%-24s 4000 rays, %d hits, all equal\n", name.c_str(), hits);
+    }
+}
+
+// A packet of four rays a hundredth apart around `origin`, towards `direction`, in the compiled scene's
+// coordinates (the test scenes compile around the world's origin: checked by the callers).
+twinray::sse::RayPacket packet_around(twinray::sse::Vec3 origin, twinray::sse::Vec3 direction) {
+    using twinray::sse::vfloat4;
+    return twinray::sse::RayPacket(
+        {vfloat4(_mm_setr_ps(origin.x, origin.x + 0.01f, origin.x, origin.x + 0.01f)),
+         vfloat4(_mm_setr_ps(origin.y, origin.y, origin.y + 0.01f, origin.y + 0.01f)), vfloat4(origin.z)},
+        twinray::sse::broadcast(direction), twinray::sse::vbool4{_mm_castsi128_ps(_mm_set1_epi32(-1))});
+}
+
+bool same_lanes(twinray::sse::vfloat4 a, twinray::sse::vfloat4 b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+std::string lanes_of(twinray::sse::vfloat4 v) {
+    char text[128];
+    std::snprintf(text, sizeof text, "%.9g %.9g %.9g %.9g", v.lane(0), v.lane(1), v.lane(2), v.lane(3));
+    return text;
+}
+
+// `count` glass CSG objects (a box minus a sphere beside the axis) one behind the other on the z axis, seen
+// along it: a packet down the axis meets every one of them.
+Scene csg_column(std::size_t count) {
+    std::vector<std::string> objects;
+    for (std::size_t i = 0; i < count; ++i) {
+        double z = 25 - 0.4 * static_cast<double>(i);
+        objects.push_back(
+            json::csg("difference", {box(0, 0, z, 0.15, 2), sphere(0.12, 0.12, z + 0.1, 0.1, 2)}, "glass"));
+    }
+    return scene_of(objects, "[0, 0, 30]");
+}
+
+// Past CsgCandidates::capacity (64) CSG objects met, a packet folds every CSG object as brute force does. A
+// column of 100 (and, to show the observation can tell, of 60) along a packet's rays: the primary and the
+// shadow walks report the fallback exactly when the column is over capacity, and the hits, the shadows, the
+// rays and the images are those of brute force bit for bit.
+TEST_F(Bvh, CsgCandidatesFallBackToEveryObjectPastCapacityWithTheSameAnswers) {
+    using namespace twinray::sse;
+    static_assert(60 < CsgCandidates::capacity && CsgCandidates::capacity < 100, "the columns straddle the capacity");
+    for (std::size_t count : {std::size_t{60}, std::size_t{100}}) {
+        const std::string name = "column of " + std::to_string(count) + " CSG objects";
+        Scene scene = csg_column(count);
+        CompiledScene brute = compile(scene, Accel::none);
+        CompiledScene bvh = compile(scene, Accel::bvh);
+        ASSERT_FALSE(bvh.bvh.empty());
+        ASSERT_EQ(bvh.origin, (twinray::scene::Vec3{0, 0, 0}));
+        const bool over = count > static_cast<std::size_t>(CsgCandidates::capacity);
+
+        Fallbacks brute_fallbacks, bvh_fallbacks;
+        RayPacket brute_rays = packet_around({0, 0, 30}, {0, 0, -1});
+        RayPacket bvh_rays = brute_rays;
+        Hit4 a = NearestHit<ExactPrecision>(brute).intersect(brute_rays, brute.flat(), &brute_fallbacks);
+        Hit4 b = NearestHit<ExactPrecision>(bvh).intersect(bvh_rays, bvh.flat(), &bvh_fallbacks);
+        EXPECT_FALSE(brute_fallbacks.csg_candidates) << name << ": brute force has nothing to fall back from";
+        EXPECT_EQ(bvh_fallbacks.csg_candidates, over) << name << ": primary packet";
+        EXPECT_EQ(movemask(a.hit), 0xF) << name;
+        EXPECT_EQ(movemask(b.hit), 0xF) << name;
+        EXPECT_TRUE(same_lanes(a.t, b.t)) << name << ": t " << lanes_of(a.t) << " and " << lanes_of(b.t);
+        EXPECT_EQ(movemask(a.leaf == b.leaf), 0xF) << name;
+
+        // Shadow rays from behind the column through all of it.
+        Fallbacks shadow_fallbacks;
+        Vec3x4 origins = packet_around({0, 0, -20}, {0, 0, 1}).origin;
+        vbool4 lanes = brute_rays.active;
+        vfloat4 brute_shadow = ShadowTransmittance<ExactPrecision>(brute)(origins, {0, 0, 40}, lanes);
+        vfloat4 bvh_shadow = ShadowTransmittance<ExactPrecision>(bvh)(origins, {0, 0, 40}, lanes, &shadow_fallbacks);
+        EXPECT_EQ(shadow_fallbacks.csg_candidates, over) << name << ": shadow packet";
+        EXPECT_TRUE(same_lanes(brute_shadow, bvh_shadow))
+            << name << ": transmittance " << lanes_of(brute_shadow) << " and " << lanes_of(bvh_shadow);
+        EXPECT_GT(bvh_shadow.lane(0), 0.0f) << name << ": every box lets 0.8 through";
+        EXPECT_LT(bvh_shadow.lane(0), 1e-9f) << name << ": " << 2 * count << " glass surfaces crossed";
+
+        Tracer brute_tracer(scene, {}, Accel::none);
+        Tracer bvh_tracer(scene, {}, Accel::bvh);
+        for (float x : {0.0f, 0.05f, -0.1f}) {
+            expect_same_answers(brute_tracer, bvh_tracer, {{x, 0.02, 30}, {0, 0, -1}},
+                                name + " ray at x " + std::to_string(x));
+        }
+        expect_images_identical(name, scene);
+        std::printf("%s: fell back %s, shadow transmittance %g\n", name.c_str(), over ? "yes" : "no",
+                    static_cast<double>(bvh_shadow.lane(0)));
+    }
+}
+
+// Past TransmissionFactors::capacity (128) transparent primitives crossed, a shadow packet multiplies every
+// primitive as brute force does. `count` glass spheres on the line from the floor at the origin to the first
+// light: shadow rays from there cross each twice.
+Scene veil_column(std::size_t count) {
+    const twinray::Vec3d floor(0, -12, 0), light(-20, 30, 20);
+    std::vector<std::string> objects;
+    for (std::size_t k = 1; k <= count; ++k) {
+        twinray::Vec3d at = floor + (static_cast<double>(k) / static_cast<double>(count + 1)) * (light - floor);
+        objects.push_back(sphere(at.x, at.y, at.z, 0.1, 2));
+    }
+    return scene_of(objects);
+}
+
+TEST_F(Bvh, TransmissionFactorsFallBackToBruteForcePastCapacityWithTheSameAnswers) {
+    using namespace twinray::sse;
+    static_assert(100 < TransmissionFactors::capacity && TransmissionFactors::capacity < 150,
+                  "the columns straddle the capacity");
+    for (std::size_t count : {std::size_t{100}, std::size_t{150}}) {
+        const std::string name = "column of " + std::to_string(count) + " glass spheres";
+        Scene scene = veil_column(count);
+        CompiledScene brute = compile(scene, Accel::none);
+        CompiledScene bvh = compile(scene, Accel::bvh);
+        ASSERT_FALSE(bvh.bvh.empty());
+        ASSERT_EQ(bvh.origin, (twinray::scene::Vec3{0, 0, 0}));
+        const bool over = count > static_cast<std::size_t>(TransmissionFactors::capacity);
+
+        Fallbacks fallbacks;
+        Vec3x4 origins = packet_around({0, -11.999f, 0}, {0, 1, 0}).origin;
+        vbool4 lanes = packet_around({0, 0, 0}, {0, 1, 0}).active;
+        const Vec3 light(-20, 30, 20);
+        vfloat4 brute_shadow = ShadowTransmittance<ExactPrecision>(brute)(origins, light, lanes);
+        vfloat4 bvh_shadow = ShadowTransmittance<ExactPrecision>(bvh)(origins, light, lanes, &fallbacks);
+        EXPECT_EQ(fallbacks.transmission_factors, over) << name;
+        EXPECT_TRUE(same_lanes(brute_shadow, bvh_shadow))
+            << name << ": transmittance " << lanes_of(brute_shadow) << " and " << lanes_of(bvh_shadow);
+        // 0.8 per surface: every lane crossed every sphere.
+        const double expected = std::pow(0.8, 2.0 * static_cast<double>(count));
+        for (int lane = 0; lane < 4; ++lane) {
+            EXPECT_NEAR(bvh_shadow.lane(lane) / expected, 1.0, 1e-3) << name << " lane " << lane;
+        }
+
+        Tracer brute_tracer(scene, {}, Accel::none);
+        Tracer bvh_tracer(scene, {}, Accel::bvh);
+        for (float x : {0.0f, 0.02f, 0.3f}) {
+            twinray::Vec3d origin(x + 6, -4, 6);
+            twinray::Vec3d direction = twinray::Vec3d(x, -12, 0) - origin;
+            direction = (1.0 / std::sqrt(twinray::math::dot(direction, direction))) * direction;
+            expect_same_answers(brute_tracer, bvh_tracer, {origin, Vec3(direction)},
+                                name + " ray to the floor at x " + std::to_string(x));
+        }
+        expect_images_identical(name, scene);
+        std::printf("%s: fell back %s, shadow transmittance %g\n", name.c_str(), over ? "yes" : "no",
+                    static_cast<double>(bvh_shadow.lane(0)));
     }
 }
 

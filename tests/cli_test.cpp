@@ -132,6 +132,25 @@ TEST_F(CliTest, OutOfRangeSizeAndUnknownTracerAreUsageErrors) {
     EXPECT_TRUE(fs::is_empty(folder_));
 }
 
+// --max-primitives lowers the loader's limit (docs/scene-format.md, "Limits"): the primitive past it is
+// refused with the file, its JSON path, the count and the limit, status 2, nothing written. spheres.json
+// holds 15 primitives.
+TEST_F(CliTest, RenderRefusesASceneOverItsPrimitiveBudgetWithStatusTwo) {
+    CommandResult over = run_twinray("render " + scene("spheres.json") + " --max-primitives 14 -o " + output("s.png"));
+    EXPECT_EQ(over.exit_status, 2) << over.output;
+    EXPECT_NE(over.output.find("spheres.json: objects[14]: primitive number 15 of the scene: more than the limit of 14 "
+                               "primitives"),
+              std::string::npos)
+        << over.output;
+    EXPECT_FALSE(fs::exists(output("s.png")));
+    CommandResult within =
+        run_twinray("render " + scene("spheres.json") + " --max-primitives 15 --width 32 -o " + output("s.png"));
+    EXPECT_EQ(within.exit_status, 0) << within.output;
+    CommandResult beyond =
+        run_twinray("render " + scene("spheres.json") + " --max-primitives 4194305 -o " + output("s.png"));
+    EXPECT_EQ(beyond.exit_status, 1) << "no scene may hold more than 4194304: " << beyond.output;
+}
+
 TEST_F(CliTest, SseTracerOnACpuWithoutSse41IsRefusedWithStatusFiveAndNothingWritten) {
     const std::string no_sse41 = "TWINRAY_SIMULATE_NO_SSE41=1";
     CommandResult result =

@@ -1,13 +1,17 @@
 // Replays every input that ever broke a fuzz target (tests/data/fuzz_regressions/<target>/, see its
 // README): each must be accepted or refused with the documented error type, never crash, throw anything
-// else or hang. Under the asan-ubsan preset the replay also checks memory and undefined behaviour, as the
+// else or hang; the BVH differential target's inputs (and seeds) must get the same answers with and without
+// the BVHs. Under the asan-ubsan preset the replay also checks memory and undefined behaviour, as the
 // fuzzer did.
 #include "compare/image_compare.h"
 #include "scene/loader.h"
+#include "tests/fuzz/bvh_differential.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -19,9 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<fs::path> recorded_inputs(const std::string& target) {
+std::vector<fs::path> files_in(const fs::path& folder) {
     std::vector<fs::path> inputs;
-    fs::path folder = fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "fuzz_regressions" / target;
     if (fs::is_directory(folder)) {
         for (const auto& entry : fs::directory_iterator(folder)) {
             if (entry.is_regular_file()) {
@@ -30,6 +33,15 @@ std::vector<fs::path> recorded_inputs(const std::string& target) {
         }
     }
     return inputs;
+}
+
+std::vector<fs::path> recorded_inputs(const std::string& target) {
+    return files_in(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "fuzz_regressions" / target);
+}
+
+std::string read_bytes(const fs::path& file) {
+    std::ifstream stream(file, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -43,8 +55,7 @@ TEST(FuzzRegression, EverySceneInputIsAcceptedOrRefusedWithASceneErrorWithinASec
     }
     for (const fs::path& input : inputs) {
         SCOPED_TRACE(input.filename().string());
-        std::ifstream stream(input, std::ios::binary);
-        std::string bytes((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
+        std::string bytes = read_bytes(input);
         auto start = std::chrono::steady_clock::now();
         try {
             twinray::scene::parse_scene(bytes, input.filename().string());
@@ -84,6 +95,28 @@ TEST(FuzzRegression, EveryImageInputIsReadOrRefusedWithAnErrorNamingTheFileWithi
         }
         EXPECT_LT(static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC, 60.0 * sanitizer_slowdown)
             << "CPU seconds";
+    }
+}
+
+// The BVH differential target's check (tests/fuzz/bvh_differential.h) on its seeds, each a valid scene the
+// loader accepts, and on every input that ever found a difference: the same answers bit for bit with and
+// without each tracer's BVH.
+TEST(FuzzRegression, EveryBvhDifferentialInputGetsTheSameAnswersWithAndWithoutTheBvh) {
+    const std::vector<fs::path> seeds =
+        files_in(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "fuzz" / "seeds" / "bvh_differential");
+    ASSERT_FALSE(seeds.empty()) << "tests/fuzz/seeds/bvh_differential/ holds the target's seeds";
+    std::vector<fs::path> inputs = recorded_inputs("bvh_differential");
+    inputs.insert(inputs.end(), seeds.begin(), seeds.end());
+    for (const fs::path& input : inputs) {
+        SCOPED_TRACE(input.filename().string());
+        const std::string bytes = read_bytes(input);
+        const twinray::fuzz::DifferentialCase decoded =
+            twinray::fuzz::CaseDecoder(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()).decode();
+        if (std::find(seeds.begin(), seeds.end(), input) != seeds.end()) {
+            EXPECT_NO_THROW(twinray::scene::parse_scene(decoded.scene_text, input.filename().string()));
+            EXPECT_FALSE(decoded.rays.empty());
+        }
+        EXPECT_EQ(twinray::fuzz::first_difference(decoded), "");
     }
 }
 

@@ -542,6 +542,78 @@ TEST(SceneLoader, DirectoryIsASceneErrorNotAnEmptyScene) {
 }
 
 // ---------------------------------------------------------------------------------------------------
+// The primitive limit (docs/scene-format.md, "Limits"), checked with a small limit so that the scenes stay
+// small: the check is the same for the default.
+
+// Four primitives: a sphere, a union of two, a box. `materials_first`: streamed, as every scene is written;
+// else the elements of objects are kept in the tree until the materials are known.
+std::string four_primitives(bool materials_first) {
+    const std::string materials = R"("materials": { "red": { "color": [1, 0, 0] } })";
+    const std::string objects = R"("objects": [
+        { "type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "red" },
+        { "type": "union", "children": [
+            { "type": "sphere", "center": [1, 0, 0], "radius": 1 },
+            { "type": "sphere", "center": [2, 0, 0], "radius": 1 } ] },
+        { "type": "box", "min": [0, 0, 0], "max": [1, 1, 1] } ])";
+    return "{ " + std::string(camera_block) + ", " +
+           (materials_first ? materials + ", " + objects : objects + ", " + materials) + " }";
+}
+
+SceneError refusal_with_limit(const std::string& text, std::size_t max_primitives) {
+    try {
+        parse_scene(text, "limit.json", max_primitives);
+    } catch (const SceneError& error) {
+        return error;
+    }
+    ADD_FAILURE() << "accepted with a limit of " << max_primitives << " primitives";
+    return SceneError("", "", "");
+}
+
+TEST(SceneLimits, TheDefaultAllowsWhatTheGeneratorWritesWithHeadroom) {
+    EXPECT_GE(max_scene_primitives, 4u * 1'000'000u);
+    EXPECT_EQ(parse(four_primitives(true)).leaf_paths.size(), 4u);
+}
+
+TEST(SceneLimits, ASceneOfExactlyTheLimitLoads) {
+    for (bool materials_first : {true, false}) {
+        EXPECT_EQ(parse_scene(four_primitives(materials_first), "limit.json", 4).leaf_paths.size(), 4u);
+    }
+}
+
+TEST(SceneLimits, ThePrimitivePastTheLimitIsRefusedWithItsPathCountAndLimit) {
+    const SceneError error = refusal_with_limit(four_primitives(true), 2);
+    EXPECT_EQ(error.file(), "limit.json");
+    EXPECT_EQ(error.location(), "objects[1].children[1]") << error.what();
+    EXPECT_EQ(error.problem(), "primitive number 3 of the scene: more than the limit of 2 primitives (about " +
+                                   std::to_string(bytes_per_primitive) +
+                                   " bytes of memory each when rendered; no scene may hold more than " +
+                                   std::to_string(max_scene_primitives) + ")")
+        << error.what();
+    EXPECT_EQ(refusal_with_limit(four_primitives(true), 3).location(), "objects[2]");
+}
+
+// Elements kept in the tree (objects before materials) are counted as the text is read: the tree stops
+// growing at the limit, before any primitive is read.
+TEST(SceneLimits, AKeptObjectsArrayIsRefusedAtTheElementPastTheLimit) {
+    const SceneError error = refusal_with_limit(four_primitives(false), 2);
+    EXPECT_EQ(error.location(), "objects[2]") << error.what();
+    EXPECT_TRUE(error.problem().starts_with(
+        "element number 3 of objects, each holding a primitive at least: more than the limit of 2 primitives"))
+        << error.what();
+    // Within the elements' limit, the primitives of a CSG object are counted as they are read.
+    EXPECT_EQ(refusal_with_limit(four_primitives(false), 3).location(), "objects[2]") << "the box, 4th primitive";
+}
+
+// The refusal of a streamed element waits for the end of the file, as every streamed refusal does, so a
+// fault earlier in reading order is the one reported.
+TEST(SceneLimits, ARefusalEarlierInReadingOrderIsReportedFirst) {
+    std::string text = four_primitives(true);
+    const std::string look_at = "\"look_at\": [0, 1, 0]";
+    text.replace(text.find(look_at), look_at.size(), "\"look_at\": [0, 1, 5]");  // the eye
+    EXPECT_EQ(refusal_with_limit(text, 2).location(), "camera.look_at");
+}
+
+// ---------------------------------------------------------------------------------------------------
 // The command-line image size.
 
 Scene scene_of_size(int width, int height) {

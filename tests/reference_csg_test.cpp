@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 namespace {
 
 using twinray::reference::Crossing;
@@ -73,6 +75,20 @@ TEST(ReferenceCsgSpans, CrossingsAtTheSameTAreBoundedByTheSmallestLeaf) {
     ASSERT_EQ(result.size(), 1u);
     expect_crossing(result[0].enter, 1, -1, 1);
     expect_crossing(result[0].exit, 4, 1, 1);
+}
+
+// A ray made of NaNs has NaN crossings, which equal nothing: the sweep looped forever on the first one
+// (found by bvh_differential_fuzz, tests/data/fuzz_regressions/bvh_differential/). Every operation, either
+// operand first, must end with no more spans than its operands hold.
+TEST(ReferenceCsgSpans, ASweepOverNanCrossingsEnds) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const SpanList<double> a = {solid(nan, nan, 0)};
+    const SpanList<double> b = {solid(1, 2, 1), solid(nan, 3, 1)};
+    for (const auto& combine : {twinray::reference::csg_union<double>, twinray::reference::csg_intersection<double>,
+                                twinray::reference::csg_difference<double>}) {
+        EXPECT_LE(combine(a, b).size(), 4u);
+        EXPECT_LE(combine(b, a).size(), 4u);
+    }
 }
 
 }  // namespace

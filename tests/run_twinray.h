@@ -56,10 +56,13 @@ inline CommandResult run_twinray(const std::string& arguments, const std::string
 class RunningTwinray {
 public:
     struct Limits {
-        std::optional<rlim_t> file_size_bytes;  // RLIMIT_FSIZE, with SIGXFSZ ignored: writes fail with EFBIG
+        std::optional<rlim_t> file_size_bytes = {};      // RLIMIT_FSIZE, with SIGXFSZ ignored: writes fail with EFBIG
+        std::optional<rlim_t> address_space_bytes = {};  // RLIMIT_AS: reserving more fails, touched or not
     };
 
-    explicit RunningTwinray(const std::vector<std::string>& arguments, Limits limits = {}) {
+    explicit RunningTwinray(const std::vector<std::string>& arguments) : RunningTwinray(arguments, Limits{}) {}
+
+    RunningTwinray(const std::vector<std::string>& arguments, Limits limits) {
         int fds[2];
         if (::pipe2(fds, O_CLOEXEC) != 0) {
             return;
@@ -83,6 +86,12 @@ public:
                     *limits.file_size_bytes, *limits.file_size_bytes
                 };
                 ::setrlimit(RLIMIT_FSIZE, &limit);
+            }
+            if (limits.address_space_bytes) {
+                struct rlimit limit {
+                    *limits.address_space_bytes, *limits.address_space_bytes
+                };
+                ::setrlimit(RLIMIT_AS, &limit);
             }
             ::execv(argv[0], argv.data());
             ::_exit(127);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cli/scene_text_writer.h"
+#include "scene/scene.h"
 
 #include <cstdint>
 #include <string>
@@ -13,6 +14,8 @@
 namespace twinray::cli {
 
 constexpr int max_generated_primitives = 1'000'000;
+// Every scene the generator writes can be read (the loader's limit, docs/scene-format.md).
+static_assert(static_cast<std::size_t>(max_generated_primitives) <= scene::max_scene_primitives);
 constexpr int default_generated_primitives = 1000;
 
 // fractal, field, lattice, csg: the order in which help and messages list them.

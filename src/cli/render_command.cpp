@@ -65,6 +65,7 @@ struct RenderArguments {
     int height = 0;
     std::string tracer = default_tracer;
     int threads = 0;
+    std::size_t max_primitives = scene::max_scene_primitives;
     sse::Precision precision;
     Accel accel = Accel::automatic;
 };
@@ -133,7 +134,7 @@ int run_render(const RenderArguments& arguments) {
     }
     scene::Scene scene;
     try {
-        scene = scene::load_scene(arguments.scene_path);
+        scene = scene::load_scene(arguments.scene_path, arguments.max_primitives);
     } catch (const scene::SceneError& error) {
         std::cerr << "twinray render: invalid scene: " << error.what() << "\n";
         return exit_invalid_scene;
@@ -225,6 +226,12 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
         ->add_option("--threads", arguments->threads,
                      "Worker threads (default: all cores); the image is identical for any count")
         ->check(CLI::Range(1, 1024));
+    command
+        ->add_option("--max-primitives", arguments->max_primitives,
+                     "Refuse (status 2) a scene of more primitives: a memory budget, about " +
+                         std::to_string(scene::bytes_per_primitive) + " bytes per primitive. At most " +
+                         std::to_string(scene::max_scene_primitives) + ", the default")
+        ->check(CLI::Range(std::size_t{1}, scene::max_scene_primitives));
     add_precision_options(*command, arguments->precision);
     add_accel_option(*command, arguments->accel);
     command->callback([arguments, &run] { run = [arguments] { return run_render(*arguments); }; });

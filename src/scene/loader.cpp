@@ -14,6 +14,7 @@
 #include <sys/mman.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
@@ -42,11 +43,13 @@ constexpr std::size_t smallest_primitive_text = 40;
 
 class SceneReader final : public ObjectsReader {
 public:
-    // The arrays of primitives are reserved for as many as `text_bytes` can hold, so that they never
-    // move while growing: moving them touched twice their size in new pages, which cost more than the
-    // parsing. Pages of the reserve that no primitive fills are never touched and take no memory.
-    SceneReader(const JsonTree& tree, std::size_t text_bytes) : tree_(tree) {
-        const std::size_t most_primitives = text_bytes / smallest_primitive_text;
+    // The arrays of primitives are reserved for as many as `text_bytes` can hold, up to the limit, so that
+    // they never move while growing: moving them touched twice their size in new pages, which cost more
+    // than the parsing. Pages of the reserve that no primitive fills are never touched and take no memory,
+    // but the address space counts: a file of gigabytes must not reserve it for more than the limit.
+    SceneReader(const JsonTree& tree, std::size_t text_bytes, std::size_t max_primitives)
+        : tree_(tree), max_primitives_(std::min(max_primitives, max_scene_primitives)) {
+        const std::size_t most_primitives = std::min(text_bytes / smallest_primitive_text, max_primitives_);
         scene_.objects.reserve(most_primitives);
         scene_.leaf_paths.reserve(most_primitives);
         scene_.leaf_materials.reserve(most_primitives);
@@ -65,6 +68,8 @@ public:
         return streamed_;
     }
 
+    std::size_t most_elements() const override { return max_primitives_; }
+
     void element(JsonValue array, JsonValue value, std::size_t index) override {
         if (first_refusal_) {
             return;
@@ -72,7 +77,7 @@ public:
         try {
             const Node root = Node::root(tree_.root());
             const Node objects = root.member(array, "objects");
-            read_top_level_object(objects.element(value, index), material_names_, scene_);
+            read_top_level_object(objects.element(value, index), material_names_, max_primitives_, scene_);
         } catch (const Refusal& refusal) {
             first_refusal_ = refusal;
         }
@@ -110,11 +115,12 @@ private:
             return;
         }
         for (const Node& element : require_array(objects, "an array of objects")) {
-            read_top_level_object(element, scene_.material_names, scene_);
+            read_top_level_object(element, scene_.material_names, max_primitives_, scene_);
         }
     }
 
     const JsonTree& tree_;
+    const std::size_t max_primitives_;
     Scene scene_;
     std::vector<std::string> material_names_;
     bool streamed_ = false;
@@ -122,9 +128,9 @@ private:
 };
 
 template <class Input>
-Scene read_scene(Input input, std::size_t text_bytes) {
+Scene read_scene(Input input, std::size_t text_bytes, std::size_t max_primitives) {
     JsonTree tree;
-    SceneReader reader(tree, text_bytes);
+    SceneReader reader(tree, text_bytes, max_primitives);
     read_json(input, tree, reader);
     return reader.read(Node::root(tree.root()));
 }
@@ -149,15 +155,15 @@ SceneError::SceneError(std::string file, std::string location, std::string probl
       location_(std::move(location)),
       problem_(std::move(problem)) {}
 
-Scene parse_scene(std::string_view json_text, const std::string& source_name) {
+Scene parse_scene(std::string_view json_text, const std::string& source_name, std::size_t max_primitives) {
     try {
-        return read_scene(json_text, json_text.size());
+        return read_scene(json_text, json_text.size(), max_primitives);
     } catch (const Refusal& refusal) {
         throw SceneError(source_name, refusal.location, refusal.problem);
     }
 }
 
-Scene load_scene(const std::filesystem::path& file) {
+Scene load_scene(const std::filesystem::path& file, std::size_t max_primitives) {
     const std::unique_ptr<std::FILE, CloseFile> stream(std::fopen(file.c_str(), "rb"));
     if (!stream) {
         throw SceneError(file.string(), "", "cannot open file: " + system_error_text());
@@ -166,7 +172,7 @@ Scene load_scene(const std::filesystem::path& file) {
     const std::size_t text_bytes =
         fstat(fileno(stream.get()), &status) == 0 ? static_cast<std::size_t>(status.st_size) : 0;
     try {
-        return read_scene(stream.get(), text_bytes);
+        return read_scene(stream.get(), text_bytes, max_primitives);
     } catch (const Refusal& refusal) {
         throw SceneError(file.string(), refusal.location, refusal.problem);
     } catch (const std::system_error& error) {

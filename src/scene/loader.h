@@ -28,8 +28,11 @@ private:
     std::string problem_;
 };
 
-// `source_name` is used only in messages (a file path, or e.g. "<string>").
-Scene parse_scene(std::string_view json_text, const std::string& source_name);
-Scene load_scene(const std::filesystem::path& file);
+// `source_name` is used only in messages (a file path, or e.g. "<string>"). A scene of more than
+// `max_primitives` primitives (at most max_scene_primitives: a larger number is not honoured) is refused as
+// it is read, before the loader holds or reserves memory for more.
+Scene parse_scene(std::string_view json_text, const std::string& source_name,
+                  std::size_t max_primitives = max_scene_primitives);
+Scene load_scene(const std::filesystem::path& file, std::size_t max_primitives = max_scene_primitives);
 
 }  // namespace twinray::scene

@@ -94,7 +94,8 @@ const ObjectKind& require_object_kind(const Node& object) {
 // Reads the objects of one top-level element; `names` are the material names objects may use.
 class ObjectReader {
 public:
-    ObjectReader(const std::vector<std::string>& names, Scene& scene) : names_(names), scene_(scene) {}
+    ObjectReader(const std::vector<std::string>& names, std::size_t max_primitives, Scene& scene)
+        : names_(names), max_primitives_(max_primitives), scene_(scene) {}
 
     // `level` bounds the recursion (max_object_nesting); `inherited_material` is that of the nearest
     // ancestor naming one, else the default.
@@ -109,6 +110,11 @@ public:
                                      [this](const Node& name) { return require_material_name(name); });
         if (const CsgOp* op = std::get_if<CsgOp>(&kind.shape)) {
             return Object{read_csg(node, *op, level, material), material, -1};
+        }
+        if (scene_.leaf_paths.size() == max_primitives_) {
+            refuse(node.path(),
+                   over_primitive_limit("primitive number " + std::to_string(max_primitives_ + 1) + " of the scene",
+                                        max_primitives_));
         }
         Shape shape = std::get<Shape (*)(const Node&)>(kind.shape)(node);
         const int leaf = static_cast<int>(scene_.leaf_paths.size());
@@ -145,14 +151,16 @@ private:
     }
 
     const std::vector<std::string>& names_;
+    const std::size_t max_primitives_;
     Scene& scene_;
 };
 
 }  // namespace
 
-void read_top_level_object(const Node& element, const std::vector<std::string>& material_names, Scene& scene) {
+void read_top_level_object(const Node& element, const std::vector<std::string>& material_names,
+                           std::size_t max_primitives, Scene& scene) {
     const std::size_t leaves_before = scene.leaf_paths.size();
-    scene.objects.push_back(ObjectReader(material_names, scene).read(element, 1, 0));
+    scene.objects.push_back(ObjectReader(material_names, max_primitives, scene).read(element, 1, 0));
     const std::size_t leaves = scene.leaf_paths.size() - leaves_before;
     if (leaves > static_cast<std::size_t>(max_csg_leaves)) {
         refuse(element.path(),

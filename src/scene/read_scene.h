@@ -24,7 +24,9 @@ std::vector<Light> read_lights(const Node& node);
 std::vector<std::string> material_names_of(const JsonValue& materials);
 
 // Reads one element of `objects` (a primitive, or a CSG tree) into the scene: the object, and each of
-// its primitives' path and material. `material_names` as in material_names_of.
-void read_top_level_object(const Node& element, const std::vector<std::string>& material_names, Scene& scene);
+// its primitives' path and material. `material_names` as in material_names_of. Refuses the primitive that
+// would make the scene's count exceed `max_primitives`.
+void read_top_level_object(const Node& element, const std::vector<std::string>& material_names,
+                           std::size_t max_primitives, Scene& scene);
 
 }  // namespace twinray::scene

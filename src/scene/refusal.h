@@ -2,6 +2,8 @@
 // wrong; parse_scene adds the source name. Shared wording helpers for the messages.
 #pragma once
 
+#include "scene/scene.h"
+
 #include <charconv>
 #include <iterator>
 #include <string>
@@ -33,6 +35,13 @@ inline std::string format_number(double value) {
 
 // A string as JSON writes it, quoted and escaped.
 std::string in_quotes(std::string_view text);
+
+// Why a scene is refused at `what` ("primitive number 5 of the scene"): past `limit` primitives.
+inline std::string over_primitive_limit(const std::string& what, std::size_t limit) {
+    return what + ": more than the limit of " + std::to_string(limit) + " primitives (about " +
+           std::to_string(bytes_per_primitive) + " bytes of memory each when rendered; no scene may hold more than " +
+           std::to_string(max_scene_primitives) + ")";
+}
 
 // The deepest nesting of arrays and objects a scene may use: far beyond any real scene, and low enough
 // that nothing recursing over the tree can exhaust the stack.

@@ -170,6 +170,12 @@ private:
             } else if (is_streamed_array(parent)) {
                 element_start_entries_ = tree_.entry_count();
                 element_start_pool_ = tree_.pool_size();
+            } else if (is_kept_objects_array(parent) && tree_.entry(parent.entry).count == objects_.most_elements()) {
+                const std::size_t count = tree_.entry(parent.entry).count;
+                refuse(index_path("objects", count),
+                       over_primitive_limit("element number " + std::to_string(count + 1) +
+                                                " of objects, each holding a primitive at least",
+                                            count));
             }
             ++tree_.entry(parent.entry).count;
         }
@@ -212,6 +218,10 @@ private:
 
     bool is_streamed_array(const Level& level) const {
         return streaming_ && levels_.size() == 2 && level.entry == streamed_array_;
+    }
+    // The root's "objects" array when its elements stay in the tree (materials come after it).
+    bool is_kept_objects_array(const Level& level) const {
+        return !streaming_ && levels_.size() == 2 && streamed_array_ != 0 && level.entry == streamed_array_;
     }
 
     // An element of the streamed array is handed over, then dropped with everything it pooled.
@@ -359,10 +369,18 @@ void read_json(std::FILE* file, JsonTree& tree, ObjectsReader& objects) {
     const bool read_to_the_end = !result.IsError() && std::feof(file) && stream.Peek() == '\0' &&
                                  static_cast<long>(stream.Tell() + (has_bom ? 3 : 0)) == std::ftell(file);
     if (!read_to_the_end) {
-        // Rare: the whole text, once, for nlohmann to find and word the error.
+        // Rare: the text again, for nlohmann to find and word the error, up to where RapidJSON stopped (its
+        // error, or a NUL byte, where both parsers end) and a margin for the token there, not to the end:
+        // a broken file of gigabytes is refused without holding it.
+        constexpr std::size_t margin = 65536;
+        const std::size_t stopped = (result.IsError() ? result.Offset() : stream.Tell()) + (has_bom ? 3 : 0);
         std::rewind(file);
         std::string text;
-        while (const std::size_t count = std::fread(buffer, 1, sizeof buffer, file)) {
+        while (text.size() <= stopped + margin) {
+            const std::size_t count = std::fread(buffer, 1, sizeof buffer, file);
+            if (count == 0) {
+                break;
+            }
             text.append(buffer, count);
         }
         check_syntax(text, result);

@@ -20,6 +20,9 @@ public:
     // element() and then dropped (true), or kept in the tree like any other value (false).
     virtual bool stream_elements(const JsonTree& read_so_far) = 0;
     virtual void element(JsonValue array, JsonValue value, std::size_t index) = 0;
+    // Each element holds a primitive at least: an array kept in the tree is refused past this many
+    // elements as it is read, before the tree grows with it (streamed elements are counted by element()).
+    virtual std::size_t most_elements() const = 0;
 };
 
 // Reads `text` or the open file into `tree`, or throws a Refusal: a syntax error with its line and

@@ -117,6 +117,7 @@ public:
             overflowed_ = true;
         }
     }
+    bool overflowed() const { return overflowed_; }
 
     template <typename Visit>
     void for_each(const CompiledScene& scene, Visit&& visit) {

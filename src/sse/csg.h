@@ -88,17 +88,21 @@ void sweep(const SpanArray& a, const SpanArray& b, Inside inside, SpanArray& out
     Crossing open_enter{};
     while (next[0] < end[0] || next[1] < end[1]) {
         float t = std::numeric_limits<float>::infinity();
-        bool any_left = false;
+        int first = -1;  // the list whose event sets t
         for (int k = 0; k < 2; ++k) {
-            if (next[k] < end[k] && (!any_left || event_t(*lists[k], next[k]) < t)) {
+            if (next[k] < end[k] && (first < 0 || event_t(*lists[k], next[k]) < t)) {
                 t = event_t(*lists[k], next[k]);
-                any_left = true;
+                first = k;
             }
         }
         bool was_inside = inside(in[0], in[1]);
         const Crossing* bound[2] = {nullptr, nullptr};  // per direction: 0 leaving, 1 entering
         for (int k = 0; k < 2; ++k) {
-            while (next[k] < end[k] && event_t(*lists[k], next[k]) == t) {
+            // The event that set t is taken even if t is NaN (a ray made of NaNs), which equals nothing:
+            // every pass takes one event at least, so the sweep ends.
+            bool take = k == first;
+            while (next[k] < end[k] && (take || event_t(*lists[k], next[k]) == t)) {
+                take = false;
                 bool enters = (next[k] & 1) == 0;
                 const Crossing& crossing = event_crossing(*lists[k], next[k]);
                 in[k] = enters;

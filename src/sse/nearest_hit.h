@@ -16,6 +16,14 @@ namespace twinray::sse {
 // Tag bits of a nearest hit: the crossing's tag (face, flipped) plus whether the ray enters there.
 constexpr std::int32_t tag_entering = 0x20;
 
+// Whether a packet's walk outgrew a fixed capacity and fell back to brute force (CsgCandidates in
+// bvh_traversal.h, TransmissionFactors in shadow.h). The answer is the same either way; tests read this to
+// prove that the fallbacks run (bvh_test.cpp).
+struct Fallbacks {
+    bool csg_candidates = false;
+    bool transmission_factors = false;
+};
+
 // The nearest crossing so far, per lane (per ray).
 struct Nearest4 {
     vfloat4 t{infinity};
@@ -136,7 +144,8 @@ public:
     // `candidates` are the top-level primitives tested one by one: scene.flat(), or for primary rays the ones
     // of it a tile can see (TileCulling); with a BVH the rest are found through it. The nearest crossing is
     // the least (t, leaf) over the primitives met, whatever the order they are met in (keep_nearest).
-    Hit4 intersect(RayPacket& rays, const PrimitiveLists& candidates) const {
+    // `fallbacks`, if given, records whether the CSG objects were folded by brute force past capacity.
+    Hit4 intersect(RayPacket& rays, const PrimitiveLists& candidates, Fallbacks* fallbacks = nullptr) const {
         if (scene_.any_inverse_direction) {
             rays.template compute_inverse_direction<P>();
         }
@@ -154,6 +163,9 @@ public:
         }
         if (!scene_.csg_objects.empty()) {
             nearest_csg_crossings(rays, nearest, csg);
+            if (fallbacks != nullptr && csg.overflowed()) {
+                fallbacks->csg_candidates = true;
+            }
         }
         return finish(rays, nearest);
     }

@@ -56,8 +56,8 @@ public:
     explicit ShadowTransmittance(const CompiledScene& scene) : scene_(scene) {}
 
     // Per lane, the product of the transmission of every surface crossed strictly between origin and
-    // light; lanes outside `lanes` get 0.
-    vfloat4 operator()(const Vec3x4& origin, Vec3 light_position, vbool4 lanes) const {
+    // light; lanes outside `lanes` get 0. `fallbacks`, if given, records which brute-force fallbacks ran.
+    vfloat4 operator()(const Vec3x4& origin, Vec3 light_position, vbool4 lanes, Fallbacks* fallbacks = nullptr) const {
         Vec3x4 to_light = broadcast(light_position) - origin;
         vfloat4 squared_distance = dot<P>(to_light, to_light);
         vfloat4 inverse_distance = inverse_sqrt<P>(squared_distance);
@@ -118,6 +118,8 @@ public:
                         multiply(factor.enter_between, factor.exit_between, factor.transmission);
                     });
                     multiplied = true;
+                } else if (fallbacks != nullptr) {
+                    fallbacks->transmission_factors = true;
                 }
             }
             if (!multiplied) {
@@ -159,6 +161,9 @@ public:
                 }
             }
         });
+        if (fallbacks != nullptr && csg.overflowed()) {
+            fallbacks->csg_candidates = true;
+        }
         return vfloat4::load(product);
     }
 
