@@ -1,5 +1,6 @@
 #include "compare/image_compare.h"
 
+#include "image/exr_file.h"
 #include "image/image_file.h"
 #include "image/openimageio_module.h"
 #include "image/png_file.h"
@@ -306,9 +307,17 @@ Image read_image(const std::filesystem::path& path, std::int64_t pixel_limit) {
                              ": no extension to name its format (.png, .exr, or another that OpenImageIO reads)");
     }
     // PNG through libpng, the most common case, without OpenImageIO's start-up; any other format
-    // through OpenImageIO, loaded then (image/openimageio_module.h).
+    // through OpenImageIO, loaded then (image/openimageio_module.h), an EXR once its header's claims
+    // are checked.
     try {
-        return lowercase(extension) == ".png" ? read_png(path, pixel_limit) : read_with_openimageio(path, pixel_limit);
+        const std::string format = lowercase(extension);
+        if (format == ".png") {
+            return read_png(path, pixel_limit);
+        }
+        if (format == ".exr") {
+            check_exr_header_claims(path, pixel_limit);
+        }
+        return read_with_openimageio(path, pixel_limit);
     } catch (const std::runtime_error& error) {
         throw ImageReadError("cannot read " + path.string() + ": " + error.what());
     }

@@ -54,15 +54,6 @@ Image read(const std::filesystem::path& path, std::int64_t pixel_limit) {
                                  std::to_string(pixel_count) + " pixels, more than the limit of " +
                                  std::to_string(pixel_limit));
     }
-    // OpenEXR allocates a buffer per tile at the size the header claims, whatever the image's size: an
-    // 860-byte file of 6 x 4 pixels in tiles of 4 x 67 108 864 took 25 s and 4.8 GB to read
-    // (tests/data/fuzz_regressions/image_loader/timeout-b9bc….exr).
-    std::int64_t tile_pixels = std::int64_t{spec.tile_width} * spec.tile_height * std::max(spec.tile_depth, 1);
-    if (tile_pixels > pixel_limit) {
-        throw std::runtime_error("tiles of " + std::to_string(spec.tile_width) + " x " +
-                                 std::to_string(spec.tile_height) + " are " + std::to_string(tile_pixels) +
-                                 " pixels each, more than the limit of " + std::to_string(pixel_limit));
-    }
     // Grey is read as one channel and expanded; a fourth channel and beyond (alpha) are never read.
     int channels = std::min(spec.nchannels, 3);
     // Not zero-filled: a truncated file that claims 8192 x 8192 fails without touching 768 MiB first.
