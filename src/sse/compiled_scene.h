@@ -175,7 +175,9 @@ struct CompiledScene {
     explicit CompiledScene(const scene::Scene& scene) : depth_control(scene) {}
 
     scene::Vec3 origin;
-    PrimitiveLists primitives;  // top-level primitives; ids are leaf indices
+    // Top-level primitives; ids are leaf indices. In file order without a BVH; with one in the order of its
+    // leaves, the unbounded ones last (bvh.file_order holds the file order).
+    PrimitiveLists primitives;
     std::vector<CsgObject> csg_objects;
     // With a BVH (its nodes not empty), the bounded primitives and CSG objects are found through it and only
     // the rest (planes, unbounded CSG objects) are tested by every ray.
