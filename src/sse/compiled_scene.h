@@ -59,6 +59,13 @@ struct PrimitiveList {
         bound_centers.reserve(count);
         bound_radii.reserve(count);
     }
+    void swap(std::size_t i, std::size_t j) {
+        std::swap(items[i], items[j]);
+        std::swap(ids[i], ids[j]);
+        std::swap(transmission[i], transmission[j]);
+        std::swap(bound_centers[i], bound_centers[j]);
+        std::swap(bound_radii[i], bound_radii[j]);
+    }
     void push_back_from(const PrimitiveList& other, std::size_t i) {
         items.push_back(other.items[i]);
         ids.push_back(other.ids[i]);
