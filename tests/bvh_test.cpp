@@ -373,6 +373,55 @@ TEST_F(Bvh, TransmissionFactorsFallBackToBruteForcePastCapacityWithTheSameAnswer
     }
 }
 
+// The fallback multiplies in file order although the compiled lists are in leaf order: the spheres of
+// veil_column, of three glasses, with their file order scattered along the column, so that the product in
+// leaf order differs from brute force's in its last bits (checked here, lest the test prove nothing).
+TEST_F(Bvh, TransmissionFallbackMultipliesInFileOrderNotLeafOrder) {
+    using namespace twinray::sse;
+    const std::size_t count = 150;
+    const twinray::Vec3d floor(0, -12, 0), light(-20, 30, 20);
+    const char* glasses[] = {"glass93", "glass81", "glass97"};
+    std::string text = R"({"format": "twinray-scene/1", "image": {"width": 32, "height": 24},
+      "camera": {"eye": [0, 6, 30], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 50},
+      "materials": {"matte": {"color": [0.8, 0.3, 0.2], "diffuse": 0.8},
+        "glass93": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.93, "ior": 1.5},
+        "glass81": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.81, "ior": 1.5},
+        "glass97": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.97, "ior": 1.5}},
+      "lights": [{"position": [-20, 30, 20], "color": [0.8, 0.8, 0.8]}],
+      "objects": [{"type": "plane", "normal": [0, 1, 0], "offset": -12, "material": "matte"})";
+    for (std::size_t i = 0; i < count; ++i) {
+        std::size_t k = 1 + (i * 61) % count;  // 61 is prime to 150: every place on the column once
+        twinray::Vec3d at = floor + (static_cast<double>(k) / static_cast<double>(count + 1)) * (light - floor);
+        text += ",\n" + json::sphere(at, 0.1, glasses[i % 3]);
+    }
+    Scene scene = twinray::scene::parse_scene(text + "]}", "bvh_test");
+    CompiledScene brute = compile(scene, Accel::none);
+    CompiledScene bvh = compile(scene, Accel::bvh);
+    ASSERT_FALSE(bvh.bvh.empty());
+    ASSERT_EQ(bvh.origin, (twinray::scene::Vec3{0, 0, 0}));
+
+    Fallbacks fallbacks;
+    Vec3x4 origins = packet_around({0, -11.999f, 0}, {0, 1, 0}).origin;
+    vbool4 lanes = packet_around({0, 0, 0}, {0, 1, 0}).active;
+    vfloat4 brute_shadow = ShadowTransmittance<ExactPrecision>(brute)(origins, Vec3(light), lanes);
+    vfloat4 bvh_shadow = ShadowTransmittance<ExactPrecision>(bvh)(origins, Vec3(light), lanes, &fallbacks);
+    EXPECT_TRUE(fallbacks.transmission_factors);
+    EXPECT_TRUE(same_lanes(brute_shadow, bvh_shadow))
+        << "transmittance " << lanes_of(brute_shadow) << " and " << lanes_of(bvh_shadow);
+
+    // Every lane crosses every sphere twice: the product in each order, as the tracer multiplies.
+    auto product = [](const PrimitiveListOf<twinray::scene::Sphere>& spheres) {
+        float transmittance = 1.0f;
+        for (float transmission : spheres.transmission) {
+            transmittance = transmittance * transmission * transmission;
+        }
+        return transmittance;
+    };
+    EXPECT_EQ(product(brute.primitives.of<twinray::scene::Sphere>()), brute_shadow.lane(0));
+    EXPECT_NE(product(bvh.primitives.of<twinray::scene::Sphere>()), brute_shadow.lane(0))
+        << "leaf order gives the same product: the test cannot tell the orders apart";
+}
+
 TEST_F(Bvh, FastPrecisionImagesAreBitIdenticalWithAndWithoutBvh) {
     Scene scene = generated_scene("csg", 2000);
     scene.width = 96;

@@ -354,7 +354,8 @@ Bvh build_bvh(const std::vector<BvhInput>& inputs) {
 }
 
 std::size_t bvh_bytes(const Bvh& bvh) {
-    return bvh.nodes.size() * sizeof(BvhNode) + bvh.items.size() * sizeof(BvhItem);
+    return bvh.nodes.size() * sizeof(BvhNode) + bvh.items.size() * sizeof(BvhItem) +
+           bvh.file_order.size() * sizeof(std::uint32_t);
 }
 
 }  // namespace twinray::sse

@@ -15,7 +15,8 @@
 namespace twinray::sse {
 
 // Which top-level item a leaf holds: `list` is a type's position in scene::PrimitiveTypes (its list in
-// PrimitiveLists) or `csg_list` for a CSG object; `index` is its place in that list.
+// PrimitiveLists) or `csg_list` for a CSG object; `index` is its place in that list (CompiledScene keeps its
+// primitive lists in leaf order, so a leaf's items are consecutive records).
 struct BvhItem {
     std::uint32_t list;
     std::uint32_t index;
@@ -46,6 +47,10 @@ struct BvhInput {
 struct Bvh {
     LargeArray<BvhNode> nodes;  // nodes[0] is the root, nodes[1] unused (siblings from 2); empty: no BVH
     LargeArray<BvhItem> items;  // leaves' items, in leaf order
+    // Filled by compile(), which moves the primitive lists into leaf order: for each list in turn (as
+    // PrimitiveLists::for_each), the places of its primitives in file order, the order brute force multiplies
+    // shadow rays' transmissions in.
+    LargeArray<std::uint32_t> file_order;
 
     bool empty() const { return nodes.empty(); }
 };
@@ -59,7 +64,7 @@ constexpr double bvh_padding = 1.0 / 8192.0;
 // `inputs` in the order the leaves' items should keep among equals (the compiled lists' order).
 Bvh build_bvh(const std::vector<BvhInput>& inputs);
 
-// Bytes of nodes and items.
+// Bytes of nodes, items and file order.
 std::size_t bvh_bytes(const Bvh& bvh);
 
 }  // namespace twinray::sse

@@ -59,6 +59,13 @@ struct PrimitiveList {
         bound_centers.reserve(count);
         bound_radii.reserve(count);
     }
+    void swap(std::size_t i, std::size_t j) {
+        std::swap(items[i], items[j]);
+        std::swap(ids[i], ids[j]);
+        std::swap(transmission[i], transmission[j]);
+        std::swap(bound_centers[i], bound_centers[j]);
+        std::swap(bound_radii[i], bound_radii[j]);
+    }
     void push_back_from(const PrimitiveList& other, std::size_t i) {
         items.push_back(other.items[i]);
         ids.push_back(other.ids[i]);
@@ -175,7 +182,9 @@ struct CompiledScene {
     explicit CompiledScene(const scene::Scene& scene) : depth_control(scene) {}
 
     scene::Vec3 origin;
-    PrimitiveLists primitives;  // top-level primitives; ids are leaf indices
+    // Top-level primitives; ids are leaf indices. In file order without a BVH; with one in the order of its
+    // leaves, the unbounded ones last (bvh.file_order holds the file order).
+    PrimitiveLists primitives;
     std::vector<CsgObject> csg_objects;
     // With a BVH (its nodes not empty), the bounded primitives and CSG objects are found through it and only
     // the rest (planes, unbounded CSG objects) are tested by every ray.

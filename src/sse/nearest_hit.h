@@ -47,20 +47,31 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
 }
 
 // Calls visit(span, id, transmission, list) for every primitive of every type present that some ray meets
-// (`list`: its type's position in scene::PrimitiveTypes). Primitives that no ray of the packet meets are
-// skipped before any use of their span: in a coherent packet that is most of them.
-template <typename P, typename Visit>
-void for_each_span(const PrimitiveLists& lists, const RayPacket& rays, Visit&& visit) {
+// (`list`: its type's position in scene::PrimitiveTypes), list after list, each list's i-th primitive at
+// place place_of(first, i) in it, `first` counting the primitives of the lists before. Primitives that no ray
+// of the packet meets are skipped before any use of their span: in a coherent packet that is most of them.
+template <typename P, typename PlaceOf, typename Visit>
+void for_each_span_in_order(const PrimitiveLists& lists, const RayPacket& rays, PlaceOf&& place_of, Visit&& visit) {
     std::uint32_t list_index = 0;
+    std::size_t first = 0;
     lists.for_each([&](const auto& list) {
         for (std::size_t i = 0; i < list.items.size(); ++i) {
-            Span4 span = span_of<P>(list.items[i], rays);
+            std::size_t place = place_of(first, i);
+            Span4 span = span_of<P>(list.items[place], rays);
             if (any(span.valid)) {
-                visit(span, list.ids[i], list.transmission[i], list_index);
+                visit(span, list.ids[place], list.transmission[place], list_index);
             }
         }
+        first += list.items.size();
         ++list_index;
     });
+}
+
+// for_each_span_in_order in the lists' own order.
+template <typename P, typename Visit>
+void for_each_span(const PrimitiveLists& lists, const RayPacket& rays, Visit&& visit) {
+    for_each_span_in_order<P>(
+        lists, rays, [](std::size_t, std::size_t i) { return i; }, visit);
 }
 
 // A CSG object's span list for one lane of a packet: every leaf's span computed for the whole packet

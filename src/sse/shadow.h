@@ -18,7 +18,7 @@ public:
     static constexpr int capacity = 128;
     struct Factor {
         std::uint32_t list;
-        std::int32_t id;  // increasing with the position in its list
+        std::int32_t id;  // increasing in file order within its list
         vbool4 enter_between, exit_between;
         float transmission;
     };
@@ -47,6 +47,20 @@ private:
     int count_ = 0;
     bool overflowed_ = false;
 };
+
+// for_each_span over scene.primitives in file order, the order brute force multiplies shadow rays'
+// transmissions in: the lists' own without a BVH, through bvh.file_order with one (the lists are then in
+// leaf order).
+template <typename P, typename Visit>
+void for_each_span_in_file_order(const CompiledScene& scene, const RayPacket& rays, Visit&& visit) {
+    if (scene.bvh.empty()) {
+        for_each_span<P>(scene.primitives, rays, visit);
+        return;
+    }
+    for_each_span_in_order<P>(
+        scene.primitives, rays, [&](std::size_t first, std::size_t i) { return scene.bvh.file_order[first + i]; },
+        visit);
+}
 
 // Model only what the scene requires: without transparent materials a shadow ray stops at its first
 // blocker (any crossing at all closes the lane); with them, transmissions multiply along the ray.
@@ -123,12 +137,12 @@ public:
                 }
             }
             if (!multiplied) {
-                for_each_span<P>(scene_.primitives, rays,
-                                 [&](const Span4& span, std::int32_t, float transmission, std::uint32_t) {
-                                     vbool4 enter_between, exit_between;
-                                     crossings_between(span, enter_between, exit_between);
-                                     multiply(enter_between, exit_between, transmission);
-                                 });
+                for_each_span_in_file_order<P>(scene_, rays,
+                                               [&](const Span4& span, std::int32_t, float transmission, std::uint32_t) {
+                                                   vbool4 enter_between, exit_between;
+                                                   crossings_between(span, enter_between, exit_between);
+                                                   multiply(enter_between, exit_between, transmission);
+                                               });
             }
             open = open & (transmittance > zero);
         }

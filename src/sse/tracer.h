@@ -75,7 +75,7 @@ struct CompiledScene;
 struct BvhStats {
     std::size_t items = 0;  // bounded primitives and CSG objects in its leaves
     std::size_t nodes = 0;
-    std::size_t bytes = 0;  // nodes and leaf items (sse::bvh_bytes)
+    std::size_t bytes = 0;  // nodes, leaf items and file order (sse::bvh_bytes)
     double build_cpu_seconds = 0;
 };
 
