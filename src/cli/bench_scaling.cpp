@@ -227,9 +227,16 @@ struct SizeRun {
             try {
                 PovrayTimes pov = time_povray(family, scene, sse_width, arguments.runs, *povray, {1});
                 double net = pov.frame_cpu[0] - pov.start_up_cpu;
-                row.insert(row.end(), {cell("%.3f", pov.frame_cpu[0]), cell("%.3f", pov.start_up_cpu),
-                                       cell("%.3f", net), cell("%.4f", sse_seconds), cell("%.1f", net / sse_seconds),
-                                       cell("%.1f", net * 1e9 / static_cast<double>(sse_bvh.rays))});
+                row.insert(row.end(), {cell("%.3f", pov.frame_cpu[0]), cell("%.3f", pov.start_up_cpu)});
+                if (net > 0) {
+                    row.insert(row.end(),
+                               {cell("%.3f", net), cell("%.4f", sse_seconds), cell("%.1f", net / sse_seconds),
+                                cell("%.1f", net * 1e9 / static_cast<double>(sse_bvh.rays))});
+                } else {
+                    // Two large CPU times of a process whose parse dominates: their difference is noise here, and
+                    // a ratio of it would be meaningless.
+                    row.insert(row.end(), {"— (1x1 took longer)", cell("%.4f", sse_seconds), "—", "—"});
+                }
             } catch (const pov::PovrayError& error) {
                 progress(std::string("\nPOV-Ray failed: ") + error.what() + "\n");
                 row.insert(row.end(), {"failed", "", "", cell("%.4f", sse_seconds), "", ""});
