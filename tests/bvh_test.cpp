@@ -514,7 +514,7 @@ TEST_F(Bvh, AutomaticBuildsOneOnlyAboveTheCrossover) {
 }  // namespace
 
 // The build's cost and size at each scale (docs/performance.md, "The BVH"): build_bvh's own CPU time, and
-// the bytes of nodes and leaf items per bounded object, at most 64 (issue 13). Speed is the bench's to
+// the bytes of nodes, leaf items and file order per bounded object, at most 64 (issue 13). Speed is the bench's to
 // judge (twinray bench --scaling); this prints it.
 TEST_F(Bvh, BuildTimeAndBytesPerPrimitiveAtEachScale) {
     for (const char* family : {"field", "fractal"}) {
