@@ -11,9 +11,11 @@ namespace twinray::sse {
 namespace {
 
 constexpr int bin_count = 16;
-constexpr std::uint32_t max_leaf_items = 4;
-// The SAH's price of visiting a node, in primitive tests.
-constexpr float node_cost = 2.0f;
+// The SAH's price of visiting a node, in primitive tests: a node of the collapsed tree is four box tests of a
+// packet and two cache lines. Measured against (4 items, cost 2): the same first-hit and render times from 100
+// to a million primitives, and half the bytes (docs/performance.md, "The BVH").
+constexpr std::uint32_t max_leaf_items = 8;
+constexpr float node_cost = 4.0f;
 constexpr float infinity_f = std::numeric_limits<float>::infinity();
 
 // The float at or below `value` (above it: rounded_up), so that the float box holds the double one.
@@ -69,6 +71,20 @@ float area(const Box4& box, __m128 scale) {
     __m128 sum = _mm_add_ss(products, _mm_shuffle_ps(products, products, _MM_SHUFFLE(3, 3, 3, 1)));
     return _mm_cvtss_f32(_mm_add_ss(sum, _mm_shuffle_ps(products, products, _MM_SHUFFLE(3, 3, 3, 2))));
 }
+
+// The binary tree the SAH builds, collapsed into BvhNodes after. An inner node (count 0) has its two children
+// at `first` and `first + 1`; a leaf holds items[first, first + count).
+struct alignas(16) BinaryNode {
+    float low[3];
+    std::uint32_t first;
+    float high[3];
+    std::uint32_t count;
+};
+
+struct BinaryTree {
+    LargeArray<BinaryNode> nodes;  // nodes[0] is the root
+    LargeArray<BvhItem> items;     // leaves' items, in leaf order
+};
 
 // One item as the build moves it: its padded float box, and its place in the input. 32 bytes, so that
 // partitioning moves whole cache-line halves.
@@ -161,14 +177,14 @@ public:
         }
     }
 
-    Bvh run() {
-        Bvh bvh;
+    BinaryTree run() {
+        BinaryTree bvh;
         if (inputs_.empty()) {
             return bvh;
         }
         bvh.nodes.reserve(2 * inputs_.size());
         bvh.items.reserve(inputs_.size());
-        bvh.nodes.resize(2);
+        bvh.nodes.resize(1);
         // Depth first, left child first, on an explicit stack: no recursion a degenerate scene could overflow.
         struct Task {
             std::uint32_t node;
@@ -185,7 +201,7 @@ public:
             Task task = tasks.back();
             tasks.pop_back();
             const Range& range = task.range;
-            BvhNode& node = bvh.nodes[task.node];
+            BinaryNode& node = bvh.nodes[task.node];
             alignas(16) float low[4], high[4];
             _mm_store_ps(low, range.box.low);
             _mm_store_ps(high, range.box.high);
@@ -347,10 +363,89 @@ private:
     Binning binning_{Box4{}, bin_count};
 };
 
+// Half a binary node's surface area (which child to open first when collapsing).
+float area(const BinaryNode& node) {
+    float x = node.high[0] - node.low[0], y = node.high[1] - node.low[1], z = node.high[2] - node.low[2];
+    return x * y + y * z + z * x;
+}
+
+// Each BvhNode takes a binary inner node's place: its two children, then, while fewer than four, the inner
+// child of largest area (the likeliest to be entered, Embree's rule; ties to the leftmost) is replaced by its
+// own two, in place, so the children stay in the binary tree's left-to-right order. Depth first, first child
+// first, so a subtree's nodes lie together. Deterministic: nothing but the binary tree decides.
+Bvh collapse(BinaryTree&& binary) {
+    Bvh bvh;
+    bvh.items = std::move(binary.items);
+    if (binary.nodes.empty()) {
+        return bvh;
+    }
+    const LargeArray<BinaryNode>& from = binary.nodes;
+    bvh.nodes.reserve(from.size() / 2 + 1);
+    struct Task {
+        std::uint32_t binary, node;
+    };
+    std::vector<Task> tasks{{0, 0}};
+    bvh.nodes.emplace_back();
+    while (!tasks.empty()) {
+        Task task = tasks.back();
+        tasks.pop_back();
+        std::uint32_t children[4] = {task.binary};
+        int child_count = 1;
+        while (child_count < 4) {
+            int widest = -1;
+            for (int c = 0; c < child_count; ++c) {
+                if (from[children[c]].count == 0 &&
+                    (widest < 0 || area(from[children[c]]) > area(from[children[widest]]))) {
+                    widest = c;
+                }
+            }
+            if (widest < 0) {
+                break;
+            }
+            std::uint32_t left = from[children[widest]].first;
+            std::copy_backward(children + widest + 1, children + child_count, children + child_count + 1);
+            children[widest] = left;
+            children[widest + 1] = left + 1;
+            ++child_count;
+        }
+        Task pending[4];
+        int pending_count = 0;
+        for (int c = 0; c < 4; ++c) {
+            BvhNode& node = bvh.nodes[task.node];
+            if (c >= child_count) {
+                for (int axis = 0; axis < 3; ++axis) {
+                    node.low[axis][c] = 0.0f;
+                    node.high[axis][c] = 0.0f;
+                }
+                node.first[c] = 0;
+                node.count[c] = BvhNode::empty_child;
+                continue;
+            }
+            const BinaryNode& child = from[children[c]];
+            for (int axis = 0; axis < 3; ++axis) {
+                node.low[axis][c] = child.low[axis];
+                node.high[axis][c] = child.high[axis];
+            }
+            node.count[c] = child.count;
+            if (child.count > 0) {
+                node.first[c] = child.first;
+            } else {
+                node.first[c] = static_cast<std::uint32_t>(bvh.nodes.size());
+                pending[pending_count++] = {children[c], node.first[c]};
+                bvh.nodes.emplace_back();
+            }
+        }
+        for (int p = pending_count - 1; p >= 0; --p) {
+            tasks.push_back(pending[p]);
+        }
+    }
+    return bvh;
+}
+
 }  // namespace
 
 Bvh build_bvh(const std::vector<BvhInput>& inputs) {
-    return Builder(inputs).run();
+    return collapse(Builder(inputs).run());
 }
 
 std::size_t bvh_bytes(const Bvh& bvh) {

@@ -1,6 +1,6 @@
 // A bounding volume hierarchy over the bounded top-level items of the compiled scene (each primitive by its
-// box, each CSG object by its bound); planes and anything else unbounded stay in flat lists. Binary, built by
-// binned SAH on one thread, deterministic: the same scene gives the same node array on any machine and for
+// box, each CSG object by its bound); planes and anything else unbounded stay in flat lists. Four children a
+// node, as wide as SSE: built binary by binned SAH on one thread, then collapsed. Deterministic: the same scene gives the same node array on any machine and for
 // any thread count (IEEE float arithmetic only, no unordered containers, our own partition, ties to the lower
 // axis, bin and input index). The build uses SSE2 only (the x86-64 baseline, no -msse4.1); the traversal is in
 // bvh_traversal.h.
@@ -23,20 +23,31 @@ struct BvhItem {
     bool operator==(const BvhItem&) const = default;
 };
 
-// 32 bytes, 16-byte aligned, so that each half loads as one __m128. An inner node (count 0) has its two
-// children at `first` and `first + 1`, `first` even: the array starts on a cache line, so two siblings, tested
-// together, share one 64-byte line. A leaf holds items[first, first + count).
-struct alignas(16) BvhNode {
-    float low[3];
-    std::uint32_t first;
-    float high[3];
-    std::uint32_t count;
+// 128 bytes, two cache lines: the boxes of up to four children, structure of arrays (low[axis][child]), so
+// that one child's face is one broadcast and one ray's four slabs are one __m128. Child c is an inner node
+// (count[c] == 0, nodes[first[c]]), a leaf (items[first[c], first[c] + count[c])) or, past the last child,
+// empty (count[c] == empty_child). Leaves live in their parent: a walk loads no node to learn it has reached one.
+struct alignas(64) BvhNode {
+    static constexpr std::uint32_t empty_child = ~std::uint32_t{0};
+
+    float low[3][4];
+    float high[3][4];
+    std::uint32_t first[4];
+    std::uint32_t count[4];
     bool operator==(const BvhNode&) const = default;
 };
 
-// A leaf is at most this deep (the root is depth 0), so a traversal stack of bvh_max_depth + 1 entries never
-// overflows, whatever the scene: the build switches from SAH to halving splits where the depth left runs short.
+// A leaf's items: items[first, first + count).
+struct BvhLeaf {
+    std::uint32_t first;
+    std::uint32_t count;
+};
+
+// A leaf is at most this many nodes below the root, whatever the scene: the binary build switches from SAH to
+// halving splits where the depth left runs short, and collapsing only shortens paths. A walk keeps at most
+// three pending siblings a level, so bvh_stack_size entries never overflow.
 constexpr int bvh_max_depth = 64;
+constexpr int bvh_stack_size = 3 * bvh_max_depth + 1;
 
 // What the build needs of one item: its bounds in the compiled scene's coordinates (double, finite).
 struct BvhInput {
@@ -45,7 +56,7 @@ struct BvhInput {
 };
 
 struct Bvh {
-    LargeArray<BvhNode> nodes;  // nodes[0] is the root, nodes[1] unused (siblings from 2); empty: no BVH
+    LargeArray<BvhNode> nodes;  // nodes[0] is the root; empty: no BVH
     LargeArray<BvhItem> items;  // leaves' items, in leaf order
     // Filled by compile(), which moves the primitive lists into leaf order: for each list in turn (as
     // PrimitiveLists::for_each), the places of its primitives in file order, the order brute force multiplies

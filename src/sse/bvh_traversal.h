@@ -1,5 +1,5 @@
-// Four rays (a packet) down the BVH (bvh.h): one test of the four rays against a node's box at a time, nearer
-// child first, a node entered if any lane still needing it meets its box. Only the SSE tracer's own
+// Four rays (a packet) down the BVH (bvh.h): one test of the four rays against each of a node's four boxes,
+// nearest child first, a child entered if any lane still needing it meets its box. Only the SSE tracer's own
 // translation units (built with -msse4.1) include this.
 //
 // Why the answers stay those of brute force (docs/sse-tracer.md, "The BVH"): a kernel's hit point lies
@@ -37,14 +37,15 @@ struct NodeTest {
     vbool4 hit;    // lanes of `lanes` that meet the box within [0, t_max]
 };
 
-// Slabs. A lane parallel to an axis gets ±∞ from both faces, or NaN where its origin lies exactly on a padded
-// face: min/max then return the other face's t, which is ±∞ and drops the lane, rightly (it is δ outside).
-inline NodeTest test_node(const BvhNode& node, const BvhRays& rays, vfloat4 t_max, vbool4 lanes) {
+// Child c's box against the packet: slabs. A lane parallel to an axis gets ±∞ from both faces, or NaN where
+// its origin lies exactly on a padded face: min/max then return the other face's t, which is ±∞ and drops the
+// lane, rightly (it is δ outside).
+inline NodeTest test_child(const BvhNode& node, int c, const BvhRays& rays, vfloat4 t_max, vbool4 lanes) {
     vfloat4 near(0.0f);
     vfloat4 far = t_max;
     for (int axis = 0; axis < 3; ++axis) {
-        vfloat4 t_low = (vfloat4(node.low[axis]) - rays.low_face_origin[axis]) * rays.inverse_direction[axis];
-        vfloat4 t_high = (vfloat4(node.high[axis]) - rays.high_face_origin[axis]) * rays.inverse_direction[axis];
+        vfloat4 t_low = (vfloat4(node.low[axis][c]) - rays.low_face_origin[axis]) * rays.inverse_direction[axis];
+        vfloat4 t_high = (vfloat4(node.high[axis][c]) - rays.high_face_origin[axis]) * rays.inverse_direction[axis];
         near = max(near, min(t_low, t_high));
         far = min(far, max(t_low, t_high));
     }
@@ -52,51 +53,150 @@ inline NodeTest test_node(const BvhNode& node, const BvhRays& rays, vfloat4 t_ma
     return {select(hit, near, vfloat4(infinity)), hit};
 }
 
-// Calls at_leaf(node) for every leaf whose box some lane of `lanes` meets before its `t_max`. at_leaf may
-// lower t_max and clear lanes (rays that are done); both are read again at every node, and the walk stops
-// when no lane is left. The stack holds at most one pending sibling per level: bvh_max_depth bounds it.
-template <typename AtLeaf>
-void for_each_leaf_met(const Bvh& bvh, const BvhRays& rays, vbool4& lanes, const vfloat4& t_max, AtLeaf&& at_leaf) {
-    struct Pending {
-        vfloat4 near;
-        std::uint32_t node;
-    };
-    Pending stack[bvh_max_depth + 2];
-    int size = 0;
-    NodeTest root = test_node(bvh.nodes[0], rays, t_max, lanes);
-    if (any(root.hit)) {
-        stack[size++] = {root.near, 0};
+// One lane's ray against a node's four boxes at once (the same slab arithmetic as test_child, lane by lane, so
+// the same boxes pass): where each child is entered, and which children it meets before t_max.
+struct LaneRay {
+    Vec3x4 low_face_origin, high_face_origin, inverse_direction;  // the lane's, in all four lanes
+
+    LaneRay(const BvhRays& rays, int lane) {
+        for (int axis = 0; axis < 3; ++axis) {
+            low_face_origin[axis] = vfloat4(rays.low_face_origin[axis].lane(lane));
+            high_face_origin[axis] = vfloat4(rays.high_face_origin[axis].lane(lane));
+            inverse_direction[axis] = vfloat4(rays.inverse_direction[axis].lane(lane));
+        }
     }
+
+    int children_met(const BvhNode& node, float t_max, vfloat4& near) const {
+        near = vfloat4(0.0f);
+        vfloat4 far(t_max);
+        for (int axis = 0; axis < 3; ++axis) {
+            vfloat4 t_low = (vfloat4::load(node.low[axis]) - low_face_origin[axis]) * inverse_direction[axis];
+            vfloat4 t_high = (vfloat4::load(node.high[axis]) - high_face_origin[axis]) * inverse_direction[axis];
+            near = max(near, min(t_low, t_high));
+            far = min(far, max(t_low, t_high));
+        }
+        vbool4 present = !(vint4::load(reinterpret_cast<const std::int32_t*>(node.count)) ==
+                           vint4(static_cast<std::int32_t>(BvhNode::empty_child)));
+        return movemask(present & (near <= far));
+    }
+};
+
+// Entries of a walk's stack: a node (count 0, nodes[first]) or a leaf (items[first, first + count)), with
+// where the ray enters it, one float or, for a packet, four (__m128: trivial, so that a stack of entries is
+// not zeroed on every walk, which vfloat4's constructor would do, 6 KB a walk). `order` sorts siblings: they
+// are pushed farthest first, so the nearest is popped first.
+struct LanePending {
+    float near;
+    std::uint32_t first;
+    std::uint32_t count;
+    float order;
+};
+
+struct PacketPending {
+    __m128 near;
+    std::uint32_t first;
+    std::uint32_t count;
+    float order;
+};
+
+// Pushes one sibling onto the run of its siblings (from `base`), which stays in descending order. An inner
+// node's two cache lines are fetched now: at a million primitives the walk waits on memory more than it computes,
+// and siblings fetched together wait once.
+template <typename Entry>
+void push_in_order(const Bvh& bvh, Entry* stack, int base, int& size, const Entry& entry) {
+    if (entry.count == 0) {
+        const char* node = reinterpret_cast<const char*>(&bvh.nodes[entry.first]);
+        _mm_prefetch(node, _MM_HINT_T0);
+        _mm_prefetch(node + 64, _MM_HINT_T0);
+    }
+    int at = size++;
+    while (at > base && stack[at - 1].order < entry.order) {
+        stack[at] = stack[at - 1];
+        --at;
+    }
+    stack[at] = entry;
+}
+
+// Lane `lane` alone down the subtree at nodes[root], four boxes a test: where a packet has diverged to one
+// ray, testing four boxes for it at once costs a quarter of testing one box for all four lanes, three of them
+// idle. at_leaf still runs the packet's kernels (any crossing it keeps for another lane is a true one).
+template <typename AtLeaf>
+void walk_one_lane(const Bvh& bvh, const BvhRays& rays, int lane, std::uint32_t root, vbool4& lanes,
+                   const vfloat4& t_max, AtLeaf& at_leaf) {
+    const LaneRay ray(rays, lane);
+    const int lane_bit = 1 << lane;
+    LanePending stack[bvh_stack_size];
+    int size = 0;
+    stack[size++] = {0.0f, root, 0, 0.0f};
+    float limit = t_max.lane(lane);
     while (size > 0) {
-        Pending pending = stack[--size];
-        vbool4 meeting = lanes & (pending.near <= t_max);
-        if (none(meeting)) {
+        LanePending pending = stack[--size];
+        if (!(pending.near <= limit)) {
             continue;
         }
-        const BvhNode& node = bvh.nodes[pending.node];
-        if (node.count > 0) {
-            at_leaf(node);
+        if (pending.count > 0) {
+            at_leaf(BvhLeaf{pending.first, pending.count});
+            if ((movemask(lanes) & lane_bit) == 0) {
+                return;
+            }
+            limit = t_max.lane(lane);
+            continue;
+        }
+        const BvhNode& node = bvh.nodes[pending.first];
+        vfloat4 near;
+        int met = ray.children_met(node, limit, near);
+        alignas(16) float entries[4];
+        near.store(entries);
+        const int base = size;
+        for (int c = 0; c < 4; ++c) {
+            if (met & (1 << c)) {
+                push_in_order(bvh, stack, base, size,
+                              LanePending{entries[c], node.first[c], node.count[c], entries[c]});
+            }
+        }
+    }
+}
+
+// Calls at_leaf(BvhLeaf) for every leaf whose box some lane of `lanes` meets before its `t_max`. at_leaf may
+// lower t_max and clear lanes (rays that are done); both are read again at every node, and the walk stops
+// when no lane is left. A node's children met are visited nearest first (by the least entry of any lane).
+// Below a node only one lane still meets, that lane walks on alone (walk_one_lane). The stack holds at most
+// three pending siblings a level: bvh_stack_size bounds it.
+template <typename AtLeaf>
+void for_each_leaf_met(const Bvh& bvh, const BvhRays& rays, vbool4& lanes, const vfloat4& t_max, AtLeaf&& at_leaf) {
+    PacketPending stack[bvh_stack_size];
+    int size = 0;
+    stack[size++] = {select(lanes, vfloat4(0.0f), vfloat4(infinity)).m, 0, 0, 0.0f};
+    while (size > 0) {
+        PacketPending pending = stack[--size];
+        vbool4 meeting = lanes & (vfloat4(pending.near) <= t_max);
+        int meeting_bits = movemask(meeting);
+        if (meeting_bits == 0) {
+            continue;
+        }
+        if (pending.count > 0) {
+            at_leaf(BvhLeaf{pending.first, pending.count});
             if (none(lanes)) {
                 return;
             }
             continue;
         }
-        NodeTest left = test_node(bvh.nodes[node.first], rays, t_max, meeting);
-        NodeTest right = test_node(bvh.nodes[node.first + 1], rays, t_max, meeting);
-        bool enter_left = any(left.hit);
-        bool enter_right = any(right.hit);
-        if (enter_left && enter_right) {
-            // Nearer first (pushed last) for most of the lanes that meet both.
-            vbool4 both = left.hit & right.hit;
-            bool left_first = 2 * lane_count(both & (left.near <= right.near)) >= lane_count(both);
-            const Pending first{left_first ? left.near : right.near, left_first ? node.first : node.first + 1};
-            const Pending second{left_first ? right.near : left.near, left_first ? node.first + 1 : node.first};
-            stack[size++] = second;
-            stack[size++] = first;
-        } else if (enter_left) {
-            stack[size++] = {left.near, node.first};
-        } else if (enter_right) {
-            stack[size++] = {right.near, node.first + 1};
+        if ((meeting_bits & (meeting_bits - 1)) == 0) {
+            walk_one_lane(bvh, rays, __builtin_ctz(static_cast<unsigned>(meeting_bits)), pending.first, lanes, t_max,
+                          at_leaf);
+            if (none(lanes)) {
+                return;
+            }
+            continue;
+        }
+        const BvhNode& node = bvh.nodes[pending.first];
+        const int base = size;
+        for (int c = 0; c < 4 && node.count[c] != BvhNode::empty_child; ++c) {
+            NodeTest child = test_child(node, c, rays, t_max, meeting);
+            if (any(child.hit)) {
+                push_in_order(bvh, stack, base, size,
+                              PacketPending{child.near.m, node.first[c], node.count[c], horizontal_min(child.near)});
+            }
         }
     }
 }
@@ -146,7 +246,7 @@ private:
 // Calls visit(span, id, transmission, list) for every primitive of a BVH leaf that some ray of the packet meets
 // (as for_each_span), and adds the leaf's CSG objects to `csg`.
 template <typename P, typename Visit>
-void for_each_span_in_leaf(const CompiledScene& scene, const BvhNode& leaf, const RayPacket& rays, CsgCandidates& csg,
+void for_each_span_in_leaf(const CompiledScene& scene, BvhLeaf leaf, const RayPacket& rays, CsgCandidates& csg,
                            Visit&& visit) {
     for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
         const BvhItem& item = scene.bvh.items[i];

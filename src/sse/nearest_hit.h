@@ -170,7 +170,7 @@ public:
             csg.collect();
             vbool4 lanes = rays.active;
             for_each_leaf_met(scene_.bvh, BvhRays(rays), lanes, nearest.t,
-                              [&](const BvhNode& leaf) { for_each_span_in_leaf<P>(scene_, leaf, rays, csg, keep); });
+                              [&](BvhLeaf leaf) { for_each_span_in_leaf<P>(scene_, leaf, rays, csg, keep); });
         }
         if (!scene_.csg_objects.empty()) {
             nearest_csg_crossings(rays, nearest, csg);

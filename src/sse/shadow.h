@@ -101,9 +101,8 @@ public:
             for_each_span<P>(scene_.flat(), rays, block);
             if (!scene_.bvh.empty() && any(open)) {
                 csg.collect();
-                for_each_leaf_met(scene_.bvh, BvhRays(rays), open, distance, [&](const BvhNode& leaf) {
-                    for_each_span_in_leaf<P>(scene_, leaf, rays, csg, block);
-                });
+                for_each_leaf_met(scene_.bvh, BvhRays(rays), open, distance,
+                                  [&](BvhLeaf leaf) { for_each_span_in_leaf<P>(scene_, leaf, rays, csg, block); });
             }
         } else {
             auto multiply = [&](vbool4 enter_between, vbool4 exit_between, float transmission) {
@@ -124,9 +123,8 @@ public:
                 for_each_span<P>(scene_.flat(), rays, record);
                 csg.collect();
                 vbool4 all_lanes = lanes;
-                for_each_leaf_met(scene_.bvh, BvhRays(rays), all_lanes, distance, [&](const BvhNode& leaf) {
-                    for_each_span_in_leaf<P>(scene_, leaf, rays, csg, record);
-                });
+                for_each_leaf_met(scene_.bvh, BvhRays(rays), all_lanes, distance,
+                                  [&](BvhLeaf leaf) { for_each_span_in_leaf<P>(scene_, leaf, rays, csg, record); });
                 if (!factors.overflowed()) {
                     factors.for_each_in_list_order([&](const TransmissionFactors::Factor& factor) {
                         multiply(factor.enter_between, factor.exit_between, factor.transmission);

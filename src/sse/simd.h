@@ -147,6 +147,12 @@ inline std::uint64_t lane_count(vbool4 mask) {
     return bits[movemask(mask)];
 }
 
+// The least of the four lanes (NaN-free input).
+inline float horizontal_min(vfloat4 a) {
+    __m128 pairs = _mm_min_ps(a.m, _mm_shuffle_ps(a.m, a.m, _MM_SHUFFLE(2, 3, 0, 1)));
+    return _mm_cvtss_f32(_mm_min_ps(pairs, _mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 0, 3, 2))));
+}
+
 // Lane-wise `mask ? a : b` (SSE4.1 blendv).
 inline vfloat4 select(vbool4 mask, vfloat4 a, vfloat4 b) {
     return vfloat4(_mm_blendv_ps(b.m, a.m, mask.m));
