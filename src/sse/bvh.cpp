@@ -194,7 +194,6 @@ public:
             return bvh;
         }
         bvh.nodes.reserve(2 * inputs_.size());
-        bvh.items.reserve(inputs_.size());
         bvh.nodes.resize(2);
         // Depth first, left child first, on an explicit stack: no recursion a degenerate scene could overflow.
         struct Task {
@@ -220,11 +219,9 @@ public:
             std::copy(high, high + 3, node.high);
             Split split = choose_split(range, task.depth);
             if (split.axis < 0) {
-                node.first = static_cast<std::uint32_t>(bvh.items.size());
+                // Leaves come left to right, so a leaf's items are its range of the final references.
+                node.first = range.begin;
                 node.count = range.end - range.begin;
-                for (std::uint32_t i = range.begin; i < range.end; ++i) {
-                    bvh.items.push_back(inputs_[references_[i].input].item);
-                }
                 continue;
             }
             auto [left, right] = partition(range, split);
@@ -235,6 +232,12 @@ public:
             bvh.nodes.emplace_back();
             tasks.push_back({first + 1, task.depth + 1, right});
             tasks.push_back({first, task.depth + 1, left});
+        }
+        // All at the end, in one tight loop: the inputs are scattered in memory, and loads issued back to back
+        // overlap their cache misses where one per leaf, between splits, waited alone.
+        bvh.items.reserve(references_.size());
+        for (const Reference& reference : references_) {
+            bvh.items.push_back(inputs_[reference.input].item);
         }
         return bvh;
     }
@@ -249,13 +252,20 @@ private:
         if (count <= 1) {
             return split;
         }
-        // As many bins as items, up to bin_count: a small node's sweep then costs no more than its binning.
-        binning_ = Binning(range.centroids, static_cast<int>(std::min<std::uint32_t>(count, bin_count)));
         if (depth + ceil_log2(count) >= bvh_max_depth) {
             split.halve = true;
             split.axis = largest_axis(range.centroids);
             return split;
         }
+        const __m128 scale = area_scale(range.box);
+        const float node_area = area(range.box, scale);
+        // The test below keeps a leaf of count <= node_cost items whatever split the sweep finds (best_cost >= 0),
+        // unless the area is NaN (infinite coordinates): then the sweep cannot be skipped.
+        if (static_cast<float>(count) <= node_cost && count <= max_leaf_items && !std::isnan(node_area)) {
+            return split;
+        }
+        // As many bins as items, up to bin_count: a small node's sweep then costs no more than its binning.
+        binning_ = Binning(range.centroids, static_cast<int>(std::min<std::uint32_t>(count, bin_count)));
         const int bins = binning_.count;
         for (auto& set : bin_boxes_) {
             for (auto& axis : set) {
@@ -270,15 +280,16 @@ private:
         // Every item's bins first, then the boxes, a block at a time (the block's items stay in L1): with the
         // bins known ahead, loading a bin's box need not guess whether an item just before stored to it, a
         // guess that made binning 3x slower where it went wrong. The bins stay for partition.
+        const Reference* references = references_.data();
+        ItemBins* item_bins = bins_.data();
         for (std::uint32_t block = range.begin; block < range.end; block += block_items) {
             std::uint32_t block_end = std::min(range.end, block + block_items);
             for (std::uint32_t i = block; i < block_end; ++i) {
-                bins_[i] = binning_.bins_of(references_[i].centroid2());
+                item_bins[i] = binning_.bins_of(references[i].centroid2());
             }
             for (std::uint32_t i = block; i < block_end; ++i) {
-                const Reference& reference = references_[i];
-                __m128 low = reference.low4(), high = reference.high4();
-                ItemBins item = bins_[i];
+                __m128 low = references[i].low4(), high = references[i].high4();
+                ItemBins item = item_bins[i];
                 int set = i & 1;
                 for (int axis = 0; axis < 3; ++axis) {
                     bin_boxes_[set][axis][item.axis[axis]].grow(low, high);
@@ -286,32 +297,31 @@ private:
                 }
             }
         }
-        const __m128 scale = area_scale(range.box);
         float best_cost = std::numeric_limits<float>::infinity();
         for (int axis = 0; axis < 3; ++axis) {
             if (!binning_.splittable[axis]) {
                 continue;
             }
-            Box4 merged[bin_count];
-            std::uint32_t merged_items[bin_count];
-            for (int bin = 0; bin < bins; ++bin) {
-                merged[bin] = bin_boxes_[0][axis][bin];
-                merged[bin].grow(bin_boxes_[1][axis][bin]);
-                merged_items[bin] = bin_items_[0][axis][bin] + bin_items_[1][axis][bin];
-            }
-            float right_cost[bin_count] = {};
+            // The sets merged as the sweeps go: reloading a merged copy just stored would wait on the store.
+            const Box4(&even)[bin_count] = bin_boxes_[0][axis];
+            const Box4(&odd)[bin_count] = bin_boxes_[1][axis];
+            const std::uint32_t(&even_items)[bin_count] = bin_items_[0][axis];
+            const std::uint32_t(&odd_items)[bin_count] = bin_items_[1][axis];
+            float right_cost[bin_count];
             Box4 right;
             std::uint32_t right_items = 0;
             for (int bin = bins - 1; bin > 0; --bin) {
-                right.grow(merged[bin]);
-                right_items += merged_items[bin];
+                right.grow(even[bin]);
+                right.grow(odd[bin]);
+                right_items += even_items[bin] + odd_items[bin];
                 right_cost[bin] = area(right, scale) * static_cast<float>(right_items);
             }
             Box4 left;
             std::uint32_t left_items = 0;
             for (int bin = 1; bin < bins; ++bin) {
-                left.grow(merged[bin - 1]);
-                left_items += merged_items[bin - 1];
+                left.grow(even[bin - 1]);
+                left.grow(odd[bin - 1]);
+                left_items += even_items[bin - 1] + odd_items[bin - 1];
                 if (left_items == 0 || left_items == count) {
                     continue;
                 }
@@ -323,7 +333,6 @@ private:
                 }
             }
         }
-        float node_area = area(range.box, scale);
         if (split.axis >= 0 && count <= max_leaf_items &&
             static_cast<float>(count) * node_area <= node_cost * node_area + best_cost) {
             split.axis = -1;
