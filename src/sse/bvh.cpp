@@ -143,15 +143,17 @@ struct Binning {
     bool splittable[3];
 
     Binning(const Box4& centroids, int bins) : low(centroids.low), last(_mm_set1_ps(bins - 1)), count(bins) {
-        alignas(16) float extent[4], scales[4] = {};
-        _mm_store_ps(extent, _mm_sub_ps(centroids.high, centroids.low));
+        // A hair under `bins`, so that the largest centroid lands in the last bin, not past it.
+        __m128 extent = _mm_sub_ps(centroids.high, centroids.low);
+        __m128 candidate = _mm_div_ps(_mm_set1_ps(static_cast<float>(bins) * (1.0f - 1.0f / 1024.0f)), extent);
+        __m128 finite = _mm_cmplt_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), candidate), _mm_set1_ps(infinity_f));
+        __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+        __m128 usable = _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(extent, _mm_setzero_ps()), finite), xyz);
+        scale = _mm_and_ps(usable, candidate);
+        int mask = _mm_movemask_ps(usable);
         for (int axis = 0; axis < 3; ++axis) {
-            // A hair under `bins`, so that the largest centroid lands in the last bin, not past it.
-            float candidate = static_cast<float>(bins) * (1.0f - 1.0f / 1024.0f) / extent[axis];
-            splittable[axis] = extent[axis] > 0 && std::isfinite(candidate);
-            scales[axis] = splittable[axis] ? candidate : 0.0f;
+            splittable[axis] = (mask >> axis) & 1;
         }
-        scale = _mm_load_ps(scales);
     }
 
     // The bins of a twice-centroid on x, y, z (and 0 in the fourth byte).
@@ -267,15 +269,11 @@ private:
         // As many bins as items, up to bin_count: a small node's sweep then costs no more than its binning.
         binning_ = Binning(range.centroids, static_cast<int>(std::min<std::uint32_t>(count, bin_count)));
         const int bins = binning_.count;
-        for (auto& set : bin_boxes_) {
-            for (auto& axis : set) {
-                std::fill(axis, axis + bins, Box4{});
-            }
+        for (auto& axis : bin_boxes_) {
+            std::fill(axis, axis + bins, Box4{});
         }
-        for (auto& set : bin_items_) {
-            for (auto& axis : set) {
-                std::fill(axis, axis + bins, 0);
-            }
+        for (auto& axis : bin_items_) {
+            std::fill(axis, axis + bins, 0);
         }
         // Every item's bins first, then the boxes, a block at a time (the block's items stay in L1): with the
         // bins known ahead, loading a bin's box need not guess whether an item just before stored to it, a
@@ -290,44 +288,41 @@ private:
             for (std::uint32_t i = block; i < block_end; ++i) {
                 __m128 low = references[i].low4(), high = references[i].high4();
                 ItemBins item = item_bins[i];
-                int set = i & 1;
                 for (int axis = 0; axis < 3; ++axis) {
-                    bin_boxes_[set][axis][item.axis[axis]].grow(low, high);
-                    ++bin_items_[set][axis][item.axis[axis]];
+                    bin_boxes_[axis][item.axis[axis]].grow(low, high);
+                    ++bin_items_[axis][item.axis[axis]];
                 }
+            }
+        }
+        // The three axes swept side by side, their chains of unions independent, so that they overlap. Each
+        // cost is the left and the right side's; NaN where the axis cannot split or a side would be empty,
+        // so that the search below, in the order axis then bin, passes it over.
+        float cost[3][bin_count];
+        Box4 right[3];
+        std::uint32_t right_items[3] = {};
+        for (int bin = bins - 1; bin > 0; --bin) {
+            for (int axis = 0; axis < 3; ++axis) {
+                right[axis].grow(bin_boxes_[axis][bin]);
+                right_items[axis] += bin_items_[axis][bin];
+                cost[axis][bin] = area(right[axis], scale) * static_cast<float>(right_items[axis]);
+            }
+        }
+        Box4 left[3];
+        std::uint32_t left_items[3] = {};
+        for (int bin = 1; bin < bins; ++bin) {
+            for (int axis = 0; axis < 3; ++axis) {
+                left[axis].grow(bin_boxes_[axis][bin - 1]);
+                left_items[axis] += bin_items_[axis][bin - 1];
+                float both = area(left[axis], scale) * static_cast<float>(left_items[axis]) + cost[axis][bin];
+                bool splits = binning_.splittable[axis] && left_items[axis] != 0 && left_items[axis] != count;
+                cost[axis][bin] = splits ? both : std::numeric_limits<float>::quiet_NaN();
             }
         }
         float best_cost = std::numeric_limits<float>::infinity();
         for (int axis = 0; axis < 3; ++axis) {
-            if (!binning_.splittable[axis]) {
-                continue;
-            }
-            // The sets merged as the sweeps go: reloading a merged copy just stored would wait on the store.
-            const Box4(&even)[bin_count] = bin_boxes_[0][axis];
-            const Box4(&odd)[bin_count] = bin_boxes_[1][axis];
-            const std::uint32_t(&even_items)[bin_count] = bin_items_[0][axis];
-            const std::uint32_t(&odd_items)[bin_count] = bin_items_[1][axis];
-            float right_cost[bin_count];
-            Box4 right;
-            std::uint32_t right_items = 0;
-            for (int bin = bins - 1; bin > 0; --bin) {
-                right.grow(even[bin]);
-                right.grow(odd[bin]);
-                right_items += even_items[bin] + odd_items[bin];
-                right_cost[bin] = area(right, scale) * static_cast<float>(right_items);
-            }
-            Box4 left;
-            std::uint32_t left_items = 0;
             for (int bin = 1; bin < bins; ++bin) {
-                left.grow(even[bin - 1]);
-                left.grow(odd[bin - 1]);
-                left_items += even_items[bin - 1] + odd_items[bin - 1];
-                if (left_items == 0 || left_items == count) {
-                    continue;
-                }
-                float cost = area(left, scale) * static_cast<float>(left_items) + right_cost[bin];
-                if (cost < best_cost) {
-                    best_cost = cost;
+                if (cost[axis][bin] < best_cost) {
+                    best_cost = cost[axis][bin];
                     split.axis = axis;
                     split.bin = bin;
                 }
@@ -398,10 +393,10 @@ private:
     // Each item's bins in the node being split, in step with references_.
     LargeArray<ItemBins> bins_;
     Binning binning_{Box4{}, bin_count};
-    // Two sets of bins, even and odd items, merged after: runs of neighbours in one bin (common, items come
-    // in scene order) then do not wait on each other's stores.
-    Box4 bin_boxes_[2][3][bin_count];
-    std::uint32_t bin_items_[2][3][bin_count];
+    // The node's bins on each axis: their boxes and item counts. One set: with the bins known a block ahead, a
+    // second set for odd items (so that neighbours in one bin did not wait on each other) measured slower.
+    Box4 bin_boxes_[3][bin_count];
+    std::uint32_t bin_items_[3][bin_count];
 };
 
 }  // namespace
