@@ -83,6 +83,16 @@ float area(const Box4& box, __m128 scale) {
     return _mm_cvtss_f32(_mm_add_ss(sum, _mm_shuffle_ps(products, products, _MM_SHUFFLE(3, 3, 3, 2))));
 }
 
+// The areas of three boxes, one a lane (the fourth unused): the same operations as area() on each.
+__m128 areas(const Box4 (&boxes)[3], __m128 scale) {
+    __m128 a = half_extent(boxes[0], scale), b = half_extent(boxes[1], scale), c = half_extent(boxes[2], scale);
+    __m128 ab_low = _mm_unpacklo_ps(a, b), ab_high = _mm_unpackhi_ps(a, b);  // ax bx ay by, az bz aw bw
+    __m128 x = _mm_movelh_ps(ab_low, c);
+    __m128 y = _mm_shuffle_ps(ab_low, c, _MM_SHUFFLE(3, 1, 3, 2));
+    __m128 z = _mm_shuffle_ps(ab_high, c, _MM_SHUFFLE(3, 2, 1, 0));
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, y), _mm_mul_ps(y, z)), _mm_mul_ps(z, x));
+}
+
 // One item as the build moves it: its padded float box, and its place in the input. 32 bytes, so that
 // partitioning moves whole cache-line halves.
 struct alignas(16) Reference {
@@ -272,9 +282,7 @@ private:
         for (auto& axis : bin_boxes_) {
             std::fill(axis, axis + bins, Box4{});
         }
-        for (auto& axis : bin_items_) {
-            std::fill(axis, axis + bins, 0);
-        }
+        std::fill(&bin_items_[0][0], &bin_items_[bins][0], 0);
         // Every item's bins first, then the boxes, a block at a time (the block's items stay in L1): with the
         // bins known ahead, loading a bin's box need not guess whether an item just before stored to it, a
         // guess that made binning 3x slower where it went wrong. The bins stay for partition.
@@ -290,39 +298,46 @@ private:
                 ItemBins item = item_bins[i];
                 for (int axis = 0; axis < 3; ++axis) {
                     bin_boxes_[axis][item.axis[axis]].grow(low, high);
-                    ++bin_items_[axis][item.axis[axis]];
+                    ++bin_items_[item.axis[axis]][axis];
                 }
             }
         }
-        // The three axes swept side by side, their chains of unions independent, so that they overlap. Each
-        // cost is the left and the right side's; NaN where the axis cannot split or a side would be empty,
-        // so that the search below, in the order axis then bin, passes it over.
-        float cost[3][bin_count];
+        // The three axes swept side by side, a lane each. Each cost is the left and the right side's; NaN where
+        // the axis cannot split or a side would be empty, so that the search below, in the order axis then bin,
+        // passes it over.
+        alignas(16) float cost[bin_count][4];
         Box4 right[3];
-        std::uint32_t right_items[3] = {};
+        __m128i right_items = _mm_setzero_si128();
         for (int bin = bins - 1; bin > 0; --bin) {
             for (int axis = 0; axis < 3; ++axis) {
                 right[axis].grow(bin_boxes_[axis][bin]);
-                right_items[axis] += bin_items_[axis][bin];
-                cost[axis][bin] = area(right[axis], scale) * static_cast<float>(right_items[axis]);
             }
+            right_items = _mm_add_epi32(right_items, _mm_load_si128(reinterpret_cast<const __m128i*>(bin_items_[bin])));
+            _mm_store_ps(cost[bin], _mm_mul_ps(areas(right, scale), _mm_cvtepi32_ps(right_items)));
         }
+        const __m128i none = _mm_setzero_si128(), all = _mm_set1_epi32(static_cast<std::int32_t>(count));
+        const __m128 splittable = _mm_castsi128_ps(
+            _mm_set_epi32(0, -binning_.splittable[2], -binning_.splittable[1], -binning_.splittable[0]));
+        const __m128 nan = _mm_set1_ps(std::numeric_limits<float>::quiet_NaN());
         Box4 left[3];
-        std::uint32_t left_items[3] = {};
+        __m128i left_items = _mm_setzero_si128();
         for (int bin = 1; bin < bins; ++bin) {
             for (int axis = 0; axis < 3; ++axis) {
                 left[axis].grow(bin_boxes_[axis][bin - 1]);
-                left_items[axis] += bin_items_[axis][bin - 1];
-                float both = area(left[axis], scale) * static_cast<float>(left_items[axis]) + cost[axis][bin];
-                bool splits = binning_.splittable[axis] && left_items[axis] != 0 && left_items[axis] != count;
-                cost[axis][bin] = splits ? both : std::numeric_limits<float>::quiet_NaN();
             }
+            left_items =
+                _mm_add_epi32(left_items, _mm_load_si128(reinterpret_cast<const __m128i*>(bin_items_[bin - 1])));
+            __m128 both =
+                _mm_add_ps(_mm_mul_ps(areas(left, scale), _mm_cvtepi32_ps(left_items)), _mm_load_ps(cost[bin]));
+            __m128i empty_side = _mm_or_si128(_mm_cmpeq_epi32(left_items, none), _mm_cmpeq_epi32(left_items, all));
+            __m128 splits = _mm_andnot_ps(_mm_castsi128_ps(empty_side), splittable);
+            _mm_store_ps(cost[bin], _mm_or_ps(_mm_and_ps(splits, both), _mm_andnot_ps(splits, nan)));
         }
         float best_cost = std::numeric_limits<float>::infinity();
         for (int axis = 0; axis < 3; ++axis) {
             for (int bin = 1; bin < bins; ++bin) {
-                if (cost[axis][bin] < best_cost) {
-                    best_cost = cost[axis][bin];
+                if (cost[bin][axis] < best_cost) {
+                    best_cost = cost[bin][axis];
                     split.axis = axis;
                     split.bin = bin;
                 }
@@ -396,7 +411,8 @@ private:
     // The node's bins on each axis: their boxes and item counts. One set: with the bins known a block ahead, a
     // second set for odd items (so that neighbours in one bin did not wait on each other) measured slower.
     Box4 bin_boxes_[3][bin_count];
-    std::uint32_t bin_items_[3][bin_count];
+    // Item counts a bin, one axis a lane, for the sweeps' vectors.
+    alignas(16) std::int32_t bin_items_[bin_count][4];
 };
 
 }  // namespace
