@@ -3,6 +3,7 @@
 #include <emmintrin.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -128,14 +129,6 @@ Reference reference_of(const BvhInput& input, std::uint32_t index) {
     out.input = index;
     out.unused = 0;
     return out;
-}
-
-int ceil_log2(std::uint32_t count) {
-    int bits = 0;
-    while ((std::uint64_t{1} << bits) < count) {
-        ++bits;
-    }
-    return bits;
 }
 
 // An item's bin on x, y and z, one byte each (bin_count fits).
@@ -264,7 +257,7 @@ private:
         if (count <= 1) {
             return split;
         }
-        if (depth + ceil_log2(count) >= bvh_max_depth) {
+        if (depth + static_cast<int>(std::bit_width(count - 1)) >= bvh_max_depth) {
             split.halve = true;
             split.axis = largest_axis(range.centroids);
             return split;
