@@ -3,6 +3,7 @@
 #include <emmintrin.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -275,7 +276,7 @@ private:
         for (auto& axis : bin_boxes_) {
             std::fill(axis, axis + bins, Box4{});
         }
-        std::fill(&bin_items_[0][0], &bin_items_[bins][0], 0);
+        std::fill_n(bin_items_, bins, BinItems{});
         // Every item's bins first, then the boxes, a block at a time (the block's items stay in L1): with the
         // bins known ahead, loading a bin's box need not guess whether an item just before stored to it, a
         // guess that made binning 3x slower where it went wrong. The bins stay for partition.
@@ -305,7 +306,8 @@ private:
             for (int axis = 0; axis < 3; ++axis) {
                 right[axis].grow(bin_boxes_[axis][bin]);
             }
-            right_items = _mm_add_epi32(right_items, _mm_load_si128(reinterpret_cast<const __m128i*>(bin_items_[bin])));
+            right_items =
+                _mm_add_epi32(right_items, _mm_load_si128(reinterpret_cast<const __m128i*>(bin_items_[bin].data())));
             _mm_store_ps(cost[bin], _mm_mul_ps(areas(right, scale), _mm_cvtepi32_ps(right_items)));
         }
         const __m128i none = _mm_setzero_si128(), all = _mm_set1_epi32(static_cast<std::int32_t>(count));
@@ -319,7 +321,7 @@ private:
                 left[axis].grow(bin_boxes_[axis][bin - 1]);
             }
             left_items =
-                _mm_add_epi32(left_items, _mm_load_si128(reinterpret_cast<const __m128i*>(bin_items_[bin - 1])));
+                _mm_add_epi32(left_items, _mm_load_si128(reinterpret_cast<const __m128i*>(bin_items_[bin - 1].data())));
             __m128 both =
                 _mm_add_ps(_mm_mul_ps(areas(left, scale), _mm_cvtepi32_ps(left_items)), _mm_load_ps(cost[bin]));
             __m128i empty_side = _mm_or_si128(_mm_cmpeq_epi32(left_items, none), _mm_cmpeq_epi32(left_items, all));
@@ -398,14 +400,15 @@ private:
 
     const std::vector<BvhInput>& inputs_;
     LargeArray<Reference> references_;
-    // Each item's bins in the node being split, in step with references_.
+    // Each item's bins in the node being split, kept in step with references_ by partition.
     LargeArray<ItemBins> bins_;
     Binning binning_{Box4{}, bin_count};
     // The node's bins on each axis: their boxes and item counts. One set: with the bins known a block ahead, a
     // second set for odd items (so that neighbours in one bin did not wait on each other) measured slower.
     Box4 bin_boxes_[3][bin_count];
     // Item counts a bin, one axis a lane, for the sweeps' vectors.
-    alignas(16) std::int32_t bin_items_[bin_count][4];
+    using BinItems = std::array<std::int32_t, 4>;
+    alignas(16) BinItems bin_items_[bin_count];
 };
 
 }  // namespace
