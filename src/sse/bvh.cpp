@@ -3,7 +3,10 @@
 #include <emmintrin.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -11,6 +14,8 @@ namespace twinray::sse {
 namespace {
 
 constexpr int bin_count = 16;
+// Items binned at a time: their references (32 bytes each) and bins stay in L1 between the two passes.
+constexpr std::uint32_t block_items = 256;
 // The SAH's price of visiting a node, in primitive tests: a node of the collapsed tree is four box tests of a
 // packet and two cache lines. Measured against (4 items, cost 2): the same first-hit and render times from 100
 // to a million primitives, and half the bytes (docs/performance.md, "The BVH").
@@ -18,17 +23,27 @@ constexpr std::uint32_t max_leaf_items = 8;
 constexpr float node_cost = 4.0f;
 constexpr float infinity_f = std::numeric_limits<float>::infinity();
 
-// The float at or below `value` (above it: rounded_up), so that the float box holds the double one.
-float rounded_down(double value) {
-    double nearest = scene::rounded_to_float(value);
-    float out = static_cast<float>(nearest);
-    return nearest > value ? std::nextafter(out, -infinity_f) : out;
-}
-
-float rounded_up(double value) {
-    double nearest = scene::rounded_to_float(value);
-    float out = static_cast<float>(nearest);
-    return nearest < value ? std::nextafter(out, infinity_f) : out;
+// The doubles `xy` and `z` (x, y and z) rounded to the float at or below each (`up`: at or above), so that
+// the float box holds the double one: exactly static_cast<float> and, where that went past, one
+// std::nextafter step, four at a time and without a call per coordinate.
+__m128 rounded_outward(__m128d xy, __m128d z, bool up) {
+    __m128 nearest = _mm_movelh_ps(_mm_cvtpd_ps(xy), _mm_cvtpd_ps(z));
+    __m128d back_xy = _mm_cvtps_pd(nearest), back_z = _mm_cvtps_pd(_mm_movehl_ps(nearest, nearest));
+    __m128d past_xy = up ? _mm_cmplt_pd(back_xy, xy) : _mm_cmpgt_pd(back_xy, xy);
+    __m128d past_z = up ? _mm_cmplt_pd(back_z, z) : _mm_cmpgt_pd(back_z, z);
+    // Each double lane's mask is all ones or all zeros: its low half is the float lane's mask.
+    __m128i past = _mm_unpacklo_epi64(_mm_shuffle_epi32(_mm_castpd_si128(past_xy), _MM_SHUFFLE(3, 3, 2, 0)),
+                                      _mm_shuffle_epi32(_mm_castpd_si128(past_z), _MM_SHUFFLE(3, 3, 2, 0)));
+    // One ulp in the float's bits: a zero of either sign first takes the direction's sign, then a float
+    // stepping away from zero (the direction's sign) adds one and one stepping toward zero subtracts one.
+    __m128i bits = _mm_castps_si128(nearest);
+    __m128i zero = _mm_castps_si128(_mm_cmpeq_ps(nearest, _mm_setzero_ps()));
+    __m128i direction = up ? _mm_setzero_si128() : _mm_set1_epi32(std::numeric_limits<std::int32_t>::min());
+    __m128i signed_bits = _mm_or_si128(_mm_andnot_si128(zero, bits), _mm_and_si128(zero, direction));
+    __m128i toward_zero = _mm_srai_epi32(_mm_xor_si128(signed_bits, direction), 31);
+    __m128i step = _mm_add_epi32(_mm_set1_epi32(1), _mm_add_epi32(toward_zero, toward_zero));
+    __m128i stepped = _mm_add_epi32(signed_bits, step);
+    return _mm_castsi128_ps(_mm_or_si128(_mm_and_si128(past, stepped), _mm_andnot_si128(past, bits)));
 }
 
 // A box in float, low and high each one __m128 (the fourth lane unused). SSE2 only, the x86-64 baseline: the
@@ -72,6 +87,16 @@ float area(const Box4& box, __m128 scale) {
     return _mm_cvtss_f32(_mm_add_ss(sum, _mm_shuffle_ps(products, products, _MM_SHUFFLE(3, 3, 3, 2))));
 }
 
+// The areas of three boxes, one a lane (the fourth unused): the same operations as area() on each.
+__m128 areas(const Box4 (&boxes)[3], __m128 scale) {
+    __m128 a = half_extent(boxes[0], scale), b = half_extent(boxes[1], scale), c = half_extent(boxes[2], scale);
+    __m128 ab_low = _mm_unpacklo_ps(a, b), ab_high = _mm_unpackhi_ps(a, b);  // ax bx ay by, az bz aw bw
+    __m128 x = _mm_movelh_ps(ab_low, c);
+    __m128 y = _mm_shuffle_ps(ab_low, c, _MM_SHUFFLE(3, 1, 3, 2));
+    __m128 z = _mm_shuffle_ps(ab_high, c, _MM_SHUFFLE(3, 2, 1, 0));
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, y), _mm_mul_ps(y, z)), _mm_mul_ps(z, x));
+}
+
 // The binary tree the SAH builds, collapsed into BvhNodes after. An inner node (count 0) has its two children
 // at `first` and `first + 1`; a leaf holds items[first, first + count).
 struct alignas(16) BinaryNode {
@@ -100,27 +125,33 @@ struct alignas(16) Reference {
     __m128 centroid2() const { return _mm_add_ps(low4(), high4()); }
 };
 
+// The item's box padded (as scene::around with bvh_padding times its largest |coordinate|) and rounded
+// outward, in SSE2 doubles: the same IEEE operations as the scalar formula, a pair at a time.
 Reference reference_of(const BvhInput& input, std::uint32_t index) {
     const scene::Bounds& bounds = input.bounds;
-    double pad =
-        bvh_padding * std::max(scene::largest_coordinate(bounds.low), scene::largest_coordinate(bounds.high)) + 1e-30;
-    scene::Bounds padded = scene::around(bounds.low, bounds.high, pad);
-    Reference out{};
-    for (int axis = 0; axis < 3; ++axis) {
-        out.low[axis] = rounded_down(padded.low[axis]);
-        out.high[axis] = rounded_up(padded.high[axis]);
-    }
+    __m128d a_xy = _mm_loadu_pd(&bounds.low[0]), a_z = _mm_load_sd(&bounds.low[2]);
+    __m128d b_xy = _mm_loadu_pd(&bounds.high[0]), b_z = _mm_load_sd(&bounds.high[2]);
+    __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(std::numeric_limits<std::int64_t>::max()));
+    __m128d largest = _mm_max_pd(_mm_max_pd(_mm_and_pd(a_xy, magnitude), _mm_and_pd(b_xy, magnitude)),
+                                 _mm_max_sd(_mm_and_pd(a_z, magnitude), _mm_and_pd(b_z, magnitude)));
+    largest = _mm_max_sd(largest, _mm_unpackhi_pd(largest, largest));
+    __m128d pad = _mm_add_sd(_mm_mul_sd(_mm_set_sd(bvh_padding), largest), _mm_set_sd(1e-30));
+    pad = _mm_unpacklo_pd(pad, pad);
+    // std::min(a, b) is b only where b < a, as minpd(b, a); std::max(a, b) likewise maxpd(b, a).
+    __m128 low = rounded_outward(_mm_sub_pd(_mm_min_pd(b_xy, a_xy), pad), _mm_sub_pd(_mm_min_pd(b_z, a_z), pad), false);
+    __m128 high = rounded_outward(_mm_add_pd(_mm_max_pd(b_xy, a_xy), pad), _mm_add_pd(_mm_max_pd(b_z, a_z), pad), true);
+    Reference out;
+    _mm_store_ps(out.low, low);
+    _mm_store_ps(out.high, high);
     out.input = index;
+    out.unused = 0;
     return out;
 }
 
-int ceil_log2(std::uint32_t count) {
-    int bits = 0;
-    while ((std::uint64_t{1} << bits) < count) {
-        ++bits;
-    }
-    return bits;
-}
+// An item's bin on x, y and z, one byte each (bin_count fits).
+struct ItemBins {
+    std::uint8_t axis[4];
+};
 
 // Maps twice-centroids to `count` bins on all three axes at once: bin = ⌊(c − low)·scale⌋, clamped. An axis
 // on which every centroid is the same (or too close for the scale to be finite) puts everything in bin 0.
@@ -132,27 +163,29 @@ struct Binning {
     bool splittable[3];
 
     Binning(const Box4& centroids, int bins) : low(centroids.low), last(_mm_set1_ps(bins - 1)), count(bins) {
-        alignas(16) float extent[4], scales[4] = {};
-        _mm_store_ps(extent, _mm_sub_ps(centroids.high, centroids.low));
+        // A hair under `bins`, so that the largest centroid lands in the last bin, not past it.
+        __m128 extent = _mm_sub_ps(centroids.high, centroids.low);
+        __m128 candidate = _mm_div_ps(_mm_set1_ps(static_cast<float>(bins) * (1.0f - 1.0f / 1024.0f)), extent);
+        __m128 finite = _mm_cmplt_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), candidate), _mm_set1_ps(infinity_f));
+        __m128 xyz = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
+        __m128 usable = _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(extent, _mm_setzero_ps()), finite), xyz);
+        scale = _mm_and_ps(usable, candidate);
+        int mask = _mm_movemask_ps(usable);
         for (int axis = 0; axis < 3; ++axis) {
-            // A hair under `bins`, so that the largest centroid lands in the last bin, not past it.
-            float candidate = static_cast<float>(bins) * (1.0f - 1.0f / 1024.0f) / extent[axis];
-            splittable[axis] = extent[axis] > 0 && std::isfinite(candidate);
-            scales[axis] = splittable[axis] ? candidate : 0.0f;
+            splittable[axis] = (mask >> axis) & 1;
         }
-        scale = _mm_load_ps(scales);
     }
 
-    // The bins of a twice-centroid on x, y, z.
-    void bins_of(__m128 centroid2, int bins[4]) const {
+    // The bins of a twice-centroid on x, y, z (and 0 in the fourth byte).
+    ItemBins bins_of(__m128 centroid2) const {
         __m128 position = _mm_mul_ps(_mm_sub_ps(centroid2, low), scale);
         position = _mm_min_ps(_mm_max_ps(position, _mm_setzero_ps()), last);
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(bins), _mm_cvttps_epi32(position));
-    }
-    int bin_of(__m128 centroid2, int axis) const {
-        alignas(16) int bins[4];
-        bins_of(centroid2, bins);
-        return bins[axis];
+        __m128i bins = _mm_cvttps_epi32(position);
+        bins = _mm_packs_epi32(bins, bins);
+        ItemBins out;
+        std::uint32_t packed = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_packus_epi16(bins, bins)));
+        std::memcpy(out.axis, &packed, sizeof packed);
+        return out;
     }
 };
 
@@ -170,7 +203,7 @@ struct Range {
 
 class Builder {
 public:
-    explicit Builder(const std::vector<BvhInput>& inputs) : inputs_(inputs) {
+    explicit Builder(const std::vector<BvhInput>& inputs) : inputs_(inputs), bins_(inputs.size()) {
         references_.reserve(inputs.size());
         for (std::size_t i = 0; i < inputs.size(); ++i) {
             references_.push_back(reference_of(inputs[i], static_cast<std::uint32_t>(i)));
@@ -183,7 +216,6 @@ public:
             return bvh;
         }
         bvh.nodes.reserve(2 * inputs_.size());
-        bvh.items.reserve(inputs_.size());
         bvh.nodes.resize(1);
         // Depth first, left child first, on an explicit stack: no recursion a degenerate scene could overflow.
         struct Task {
@@ -209,11 +241,9 @@ public:
             std::copy(high, high + 3, node.high);
             Split split = choose_split(range, task.depth);
             if (split.axis < 0) {
-                node.first = static_cast<std::uint32_t>(bvh.items.size());
+                // Leaves come left to right, so a leaf's items are its range of the final references.
+                node.first = range.begin;
                 node.count = range.end - range.begin;
-                for (std::uint32_t i = range.begin; i < range.end; ++i) {
-                    bvh.items.push_back(inputs_[references_[i].input].item);
-                }
                 continue;
             }
             auto [left, right] = partition(range, split);
@@ -224,6 +254,12 @@ public:
             bvh.nodes.emplace_back();
             tasks.push_back({first + 1, task.depth + 1, right});
             tasks.push_back({first, task.depth + 1, left});
+        }
+        // All at the end, in one tight loop: the inputs are scattered in memory, and loads issued back to back
+        // overlap their cache misses where one per leaf, between splits, waited alone.
+        bvh.items.reserve(references_.size());
+        for (const Reference& reference : references_) {
+            bvh.items.push_back(inputs_[reference.input].item);
         }
         return bvh;
     }
@@ -238,67 +274,86 @@ private:
         if (count <= 1) {
             return split;
         }
-        // As many bins as items, up to bin_count: a small node's sweep then costs no more than its binning.
-        binning_ = Binning(range.centroids, static_cast<int>(std::min<std::uint32_t>(count, bin_count)));
-        if (depth + ceil_log2(count) >= bvh_max_depth) {
+        if (depth + static_cast<int>(std::bit_width(count - 1)) >= bvh_max_depth) {
             split.halve = true;
             split.axis = largest_axis(range.centroids);
             return split;
         }
-        // Two sets of bins, even and odd items, merged after: runs of neighbours in one bin (common, items come
-        // in scene order) then do not wait on each other's stores.
-        Box4 bin_boxes[2][3][bin_count];
-        std::uint32_t bin_items[2][3][bin_count] = {};
-        for (std::uint32_t i = range.begin; i < range.end; ++i) {
-            const Reference& reference = references_[i];
-            __m128 low = reference.low4(), high = reference.high4();
-            alignas(16) int bins[4];
-            binning_.bins_of(reference.centroid2(), bins);
-            int set = i & 1;
-            for (int axis = 0; axis < 3; ++axis) {
-                bin_boxes[set][axis][bins[axis]].grow(low, high);
-                ++bin_items[set][axis][bins[axis]];
+        const __m128 scale = area_scale(range.box);
+        const float node_area = area(range.box, scale);
+        // The test below keeps a leaf of count <= node_cost items whatever split the sweep finds (best_cost >= 0),
+        // unless the area is NaN (infinite coordinates): then the sweep cannot be skipped.
+        if (static_cast<float>(count) <= node_cost && count <= max_leaf_items && !std::isnan(node_area)) {
+            return split;
+        }
+        // As many bins as items, up to bin_count: a small node's sweep then costs no more than its binning.
+        binning_ = Binning(range.centroids, static_cast<int>(std::min<std::uint32_t>(count, bin_count)));
+        const int bins = binning_.count;
+        for (auto& axis : bin_boxes_) {
+            std::fill(axis, axis + bins, Box4{});
+        }
+        std::fill_n(bin_items_, bins, BinItems{});
+        // Every item's bins first, then the boxes, a block at a time (the block's items stay in L1): with the
+        // bins known ahead, loading a bin's box need not guess whether an item just before stored to it, a
+        // guess that made binning 3x slower where it went wrong. The bins stay for partition.
+        const Reference* references = references_.data();
+        ItemBins* item_bins = bins_.data();
+        for (std::uint32_t block = range.begin; block < range.end; block += block_items) {
+            std::uint32_t block_end = std::min(range.end, block + block_items);
+            for (std::uint32_t i = block; i < block_end; ++i) {
+                item_bins[i] = binning_.bins_of(references[i].centroid2());
+            }
+            for (std::uint32_t i = block; i < block_end; ++i) {
+                __m128 low = references[i].low4(), high = references[i].high4();
+                ItemBins item = item_bins[i];
+                for (int axis = 0; axis < 3; ++axis) {
+                    bin_boxes_[axis][item.axis[axis]].grow(low, high);
+                    ++bin_items_[item.axis[axis]][axis];
+                }
             }
         }
-        const int bins = binning_.count;
-        const __m128 scale = area_scale(range.box);
+        // The three axes swept side by side, a lane each. Each cost is the left and the right side's; NaN where
+        // the axis cannot split or a side would be empty, so that the search below, in the order axis then bin,
+        // passes it over.
+        alignas(16) float cost[bin_count][4];
+        Box4 right[3];
+        __m128i right_items = _mm_setzero_si128();
+        for (int bin = bins - 1; bin > 0; --bin) {
+            for (int axis = 0; axis < 3; ++axis) {
+                right[axis].grow(bin_boxes_[axis][bin]);
+            }
+            right_items =
+                _mm_add_epi32(right_items, _mm_load_si128(reinterpret_cast<const __m128i*>(bin_items_[bin].data())));
+            _mm_store_ps(cost[bin], _mm_mul_ps(areas(right, scale), _mm_cvtepi32_ps(right_items)));
+        }
+        const __m128i none = _mm_setzero_si128(), all = _mm_set1_epi32(static_cast<std::int32_t>(count));
+        const __m128 splittable = _mm_castsi128_ps(
+            _mm_set_epi32(0, -binning_.splittable[2], -binning_.splittable[1], -binning_.splittable[0]));
+        const __m128 nan = _mm_set1_ps(std::numeric_limits<float>::quiet_NaN());
+        Box4 left[3];
+        __m128i left_items = _mm_setzero_si128();
+        for (int bin = 1; bin < bins; ++bin) {
+            for (int axis = 0; axis < 3; ++axis) {
+                left[axis].grow(bin_boxes_[axis][bin - 1]);
+            }
+            left_items =
+                _mm_add_epi32(left_items, _mm_load_si128(reinterpret_cast<const __m128i*>(bin_items_[bin - 1].data())));
+            __m128 both =
+                _mm_add_ps(_mm_mul_ps(areas(left, scale), _mm_cvtepi32_ps(left_items)), _mm_load_ps(cost[bin]));
+            __m128i empty_side = _mm_or_si128(_mm_cmpeq_epi32(left_items, none), _mm_cmpeq_epi32(left_items, all));
+            __m128 splits = _mm_andnot_ps(_mm_castsi128_ps(empty_side), splittable);
+            _mm_store_ps(cost[bin], _mm_or_ps(_mm_and_ps(splits, both), _mm_andnot_ps(splits, nan)));
+        }
         float best_cost = std::numeric_limits<float>::infinity();
         for (int axis = 0; axis < 3; ++axis) {
-            if (!binning_.splittable[axis]) {
-                continue;
-            }
-            Box4 merged[bin_count];
-            std::uint32_t merged_items[bin_count];
-            for (int bin = 0; bin < bins; ++bin) {
-                merged[bin] = bin_boxes[0][axis][bin];
-                merged[bin].grow(bin_boxes[1][axis][bin]);
-                merged_items[bin] = bin_items[0][axis][bin] + bin_items[1][axis][bin];
-            }
-            float right_cost[bin_count] = {};
-            Box4 right;
-            std::uint32_t right_items = 0;
-            for (int bin = bins - 1; bin > 0; --bin) {
-                right.grow(merged[bin]);
-                right_items += merged_items[bin];
-                right_cost[bin] = area(right, scale) * static_cast<float>(right_items);
-            }
-            Box4 left;
-            std::uint32_t left_items = 0;
             for (int bin = 1; bin < bins; ++bin) {
-                left.grow(merged[bin - 1]);
-                left_items += merged_items[bin - 1];
-                if (left_items == 0 || left_items == count) {
-                    continue;
-                }
-                float cost = area(left, scale) * static_cast<float>(left_items) + right_cost[bin];
-                if (cost < best_cost) {
-                    best_cost = cost;
+                if (cost[bin][axis] < best_cost) {
+                    best_cost = cost[bin][axis];
                     split.axis = axis;
                     split.bin = bin;
                 }
             }
         }
-        float node_area = area(range.box, scale);
         if (split.axis >= 0 && count <= max_leaf_items &&
             static_cast<float>(count) * node_area <= node_cost * node_area + best_cost) {
             split.axis = -1;
@@ -324,7 +379,7 @@ private:
         while (i < j) {
             const Reference& reference = references_[i];
             __m128 centroid2 = reference.centroid2();
-            if (binning_.bin_of(centroid2, split.axis) < split.bin) {
+            if (bins_[i].axis[split.axis] < split.bin) {
                 left.box.grow(reference.low4(), reference.high4());
                 left.centroids.grow(centroid2);
                 ++i;
@@ -332,6 +387,7 @@ private:
                 right.box.grow(reference.low4(), reference.high4());
                 right.centroids.grow(centroid2);
                 std::swap(references_[i], references_[--j]);
+                std::swap(bins_[i], bins_[j]);
             }
         }
         left.end = i;
@@ -360,7 +416,15 @@ private:
 
     const std::vector<BvhInput>& inputs_;
     LargeArray<Reference> references_;
+    // Each item's bins in the node being split, kept in step with references_ by partition.
+    LargeArray<ItemBins> bins_;
     Binning binning_{Box4{}, bin_count};
+    // The node's bins on each axis: their boxes and item counts. One set: with the bins known a block ahead, a
+    // second set for odd items (so that neighbours in one bin did not wait on each other) measured slower.
+    Box4 bin_boxes_[3][bin_count];
+    // Item counts a bin, one axis a lane, for the sweeps' vectors.
+    using BinItems = std::array<std::int32_t, 4>;
+    alignas(16) BinItems bin_items_[bin_count];
 };
 
 // Half a binary node's surface area (which child to open first when collapsing).
