@@ -82,35 +82,35 @@ struct LaneRay {
 };
 
 // Entries of a walk's stack: a node (count 0, nodes[first]) or a leaf (items[first, first + count)), with
-// where the ray enters it, one float or, for a packet, four (__m128: trivial, so that a stack of entries is
-// not zeroed on every walk, which vfloat4's constructor would do, 6 KB a walk). `order` sorts siblings: they
-// are pushed farthest first, so the nearest is popped first.
+// where the ray enters it: one float or, for a packet, four (__m128: trivial, so that a stack of entries is
+// not zeroed on every walk, which vfloat4's constructor would do, 6 KB a walk), and then the least of them,
+// which orders siblings.
 struct LanePending {
     float near;
     std::uint32_t first;
     std::uint32_t count;
-    float order;
 };
 
 struct PacketPending {
     __m128 near;
     std::uint32_t first;
     std::uint32_t count;
-    float order;
+    float least_near;
 };
 
-// Pushes one sibling onto the run of its siblings (from `base`), which stays in descending order. An inner
-// node's two cache lines are fetched now: at a million primitives the walk waits on memory more than it computes,
-// and siblings fetched together wait once.
+inline float order_of(const LanePending& entry) {
+    return entry.near;
+}
+inline float order_of(const PacketPending& entry) {
+    return entry.least_near;
+}
+
+// Pushes one sibling onto the run of its siblings (from `base`), kept farthest first, so that the nearest is
+// popped first.
 template <typename Entry>
-void push_in_order(const Bvh& bvh, Entry* stack, int base, int& size, const Entry& entry) {
-    if (entry.count == 0) {
-        const char* node = reinterpret_cast<const char*>(&bvh.nodes[entry.first]);
-        _mm_prefetch(node, _MM_HINT_T0);
-        _mm_prefetch(node + 64, _MM_HINT_T0);
-    }
+void push_in_order(Entry* stack, int base, int& size, const Entry& entry) {
     int at = size++;
-    while (at > base && stack[at - 1].order < entry.order) {
+    while (at > base && order_of(stack[at - 1]) < order_of(entry)) {
         stack[at] = stack[at - 1];
         --at;
     }
@@ -127,7 +127,7 @@ void walk_one_lane(const Bvh& bvh, const BvhRays& rays, int lane, std::uint32_t 
     const int lane_bit = 1 << lane;
     LanePending stack[bvh_stack_size];
     int size = 0;
-    stack[size++] = {0.0f, root, 0, 0.0f};
+    stack[size++] = {0.0f, root, 0};
     float limit = t_max.lane(lane);
     while (size > 0) {
         LanePending pending = stack[--size];
@@ -150,8 +150,7 @@ void walk_one_lane(const Bvh& bvh, const BvhRays& rays, int lane, std::uint32_t 
         const int base = size;
         for (int c = 0; c < 4; ++c) {
             if (met & (1 << c)) {
-                push_in_order(bvh, stack, base, size,
-                              LanePending{entries[c], node.first[c], node.count[c], entries[c]});
+                push_in_order(stack, base, size, LanePending{entries[c], node.first[c], node.count[c]});
             }
         }
     }
@@ -194,7 +193,7 @@ void for_each_leaf_met(const Bvh& bvh, const BvhRays& rays, vbool4& lanes, const
         for (int c = 0; c < 4 && node.count[c] != BvhNode::empty_child; ++c) {
             NodeTest child = test_child(node, c, rays, t_max, meeting);
             if (any(child.hit)) {
-                push_in_order(bvh, stack, base, size,
+                push_in_order(stack, base, size,
                               PacketPending{child.near.m, node.first[c], node.count[c], horizontal_min(child.near)});
             }
         }
