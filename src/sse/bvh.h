@@ -1,9 +1,9 @@
 // A bounding volume hierarchy over the bounded top-level items of the compiled scene (each primitive by its
 // box, each CSG object by its bound); planes and anything else unbounded stay in flat lists. Four children a
-// node, as wide as SSE: built binary by binned SAH on one thread, then collapsed. Deterministic: the same scene gives the same node array on any machine and for
-// any thread count (IEEE float arithmetic only, no unordered containers, our own partition, ties to the lower
-// axis, bin and input index). The build uses SSE2 only (the x86-64 baseline, no -msse4.1); the traversal is in
-// bvh_traversal.h.
+// node, as wide as SSE: built binary by binned SAH on one thread, then collapsed. Deterministic: the same scene
+// gives the same node array on any machine and for any thread count (IEEE float arithmetic only, no unordered
+// containers, our own partition, ties to the lower axis, bin and input index). The build uses SSE2 only (the
+// x86-64 baseline, no -msse4.1); the traversal is in bvh_traversal.h.
 #pragma once
 
 #include "render/large_array.h"
