@@ -427,10 +427,12 @@ private:
     alignas(16) BinItems bin_items_[bin_count];
 };
 
-// Half a binary node's surface area (which child to open first when collapsing).
+// A binary node's area as the SAH measures it, unscaled (which child to open first when collapsing). Its
+// boxes load as one __m128 each: the fourth lane (first, count) is one area() leaves out.
 float area(const BinaryNode& node) {
-    float x = node.high[0] - node.low[0], y = node.high[1] - node.low[1], z = node.high[2] - node.low[2];
-    return x * y + y * z + z * x;
+    Box4 box;
+    box.grow(_mm_load_ps(node.low), _mm_load_ps(node.high));
+    return area(box, _mm_set1_ps(1.0f));
 }
 
 // Each BvhNode takes a binary inner node's place: its two children, then, while fewer than four, the inner
@@ -475,13 +477,8 @@ Bvh collapse(BinaryTree&& binary) {
         Task pending[4];
         int pending_count = 0;
         for (int c = 0; c < 4; ++c) {
-            BvhNode& node = bvh.nodes[task.node];
+            BvhNode& node = bvh.nodes[task.node];  // value-initialized: an empty slot's box and first are 0
             if (c >= child_count) {
-                for (int axis = 0; axis < 3; ++axis) {
-                    node.low[axis][c] = 0.0f;
-                    node.high[axis][c] = 0.0f;
-                }
-                node.first[c] = 0;
                 node.count[c] = BvhNode::empty_child;
                 continue;
             }
