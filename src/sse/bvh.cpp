@@ -456,12 +456,12 @@ Bvh collapse(BinaryTree&& binary) {
         Task task = tasks.back();
         tasks.pop_back();
         std::uint32_t children[4] = {task.binary};
+        float areas[4] = {area(from[task.binary])};
         int child_count = 1;
         while (child_count < 4) {
             int widest = -1;
             for (int c = 0; c < child_count; ++c) {
-                if (from[children[c]].count == 0 &&
-                    (widest < 0 || area(from[children[c]]) > area(from[children[widest]]))) {
+                if (from[children[c]].count == 0 && (widest < 0 || areas[c] > areas[widest])) {
                     widest = c;
                 }
             }
@@ -470,8 +470,11 @@ Bvh collapse(BinaryTree&& binary) {
             }
             std::uint32_t left = from[children[widest]].first;
             std::copy_backward(children + widest + 1, children + child_count, children + child_count + 1);
+            std::copy_backward(areas + widest + 1, areas + child_count, areas + child_count + 1);
             children[widest] = left;
             children[widest + 1] = left + 1;
+            areas[widest] = area(from[left]);
+            areas[widest + 1] = area(from[left + 1]);
             ++child_count;
         }
         Task pending[4];
