@@ -163,6 +163,7 @@ public:
         Nearest4 nearest;
         auto keep = [&](const Span4& span, std::int32_t leaf, float, std::uint32_t) {
             keep_nearest(nearest, span, leaf);
+            prefetch_leaf(leaf);
         };
         for_each_span<P>(candidates, rays, keep);
         CsgCandidates csg;
@@ -182,6 +183,15 @@ public:
     }
 
 private:
+    // finish() reads the Leaf of each lane's nearest hit, which is in file order while the walk visits
+    // primitives in leaf order: at a million primitives a cache miss per lane, a fifth of the first hits'
+    // time, unless it is fetched while the walk goes on. Every primitive a ray meets may end up its nearest.
+    void prefetch_leaf(std::int32_t leaf) const {
+        const char* bytes = reinterpret_cast<const char*>(&scene_.leaves[static_cast<std::size_t>(leaf)]);
+        _mm_prefetch(bytes, _MM_HINT_T0);
+        _mm_prefetch(bytes + sizeof(Leaf) - 1, _MM_HINT_T0);
+    }
+
     // Per lane: CSG objects whose bound the ray meets before its nearest hit so far. With a BVH, the
     // candidates are the objects whose box some lane met before its nearest primitive: a superset of those
     // whose bound passes the test below, so the same objects change the answer.
