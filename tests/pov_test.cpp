@@ -377,6 +377,29 @@ bool contains(const std::string& text, const std::string& part) {
     return text.find(part) != std::string::npos;
 }
 
+// `twinray bench` takes POV-Ray's render time from its own statistics (the trace's CPU seconds), not from a
+// difference of whole-process times: read back from the log, and sixteen times the pixels take longer to
+// trace, while the parse of the same scene does not grow with them.
+TEST(PovRunner, StatisticsGiveTheTraceCpuSecondsWhichGrowWithThePixels) {
+    std::optional<fs::path> povray = find_povray();
+    ASSERT_TRUE(povray.has_value()) << "povray is not on PATH: install the Debian package `povray` (ci/setup)";
+    twinray::scene::Scene scene = twinray::scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "scenes" / "spheres.json");
+    fs::path folder = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "pov" / "statistics";
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    twinray::pov::PovrayStatistics small, large;
+    twinray::pov::render_with_povray(*povray, folder, "small", twinray::pov::export_pov(scene, 40, 30), 40, 30, 1,
+                                     &small);
+    twinray::pov::render_with_povray(*povray, folder, "large", twinray::pov::export_pov(scene, 640, 480), 640, 480, 1,
+                                     &large);
+    EXPECT_GT(large.trace_cpu_seconds, 0.0);
+    EXPECT_GT(large.trace_cpu_seconds, 4 * small.trace_cpu_seconds)
+        << "trace CPU seconds: " << small.trace_cpu_seconds << " at 40x30, " << large.trace_cpu_seconds
+        << " at 640x480";
+    EXPECT_LT(large.parse_cpu_seconds + large.bounding_cpu_seconds, 1.0)
+        << "parse " << large.parse_cpu_seconds << " s, bounding " << large.bounding_cpu_seconds << " s";
+}
+
 TEST(PovExporter, NegatesZAndSwapsTheBoxCornersItsOrderChanges) {
     std::string pov = twinray::pov::export_pov(scene_from(R"([{"type": "box", "min": [-1, 0, -3], "max": [1, 2, -2]},
                        {"type": "sphere", "center": [1, 2, 3], "radius": 0.5},

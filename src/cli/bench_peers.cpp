@@ -36,20 +36,25 @@ double children_cpu_seconds() {
 }  // namespace
 
 PovrayTimes time_povray(const std::string& name, const scene::Scene& scene, int width, int runs, const fs::path& povray,
-                        const std::vector<int>& threads) {
+                        const std::vector<int>& threads, bool start_up) {
     scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
     fs::path folder = fs::temp_directory_path() / ("twinray-bench-povray-" + std::to_string(::getpid()));
     fs::create_directories(folder);
     std::string pov_text = pov::export_pov(scene, size.width, size.height);
-    std::string tiny_text = pov::export_pov(scene, 1, 1);
+    std::string tiny_text = start_up ? pov::export_pov(scene, 1, 1) : std::string();
     const std::size_t frames = threads.size();
-    std::vector<std::vector<double>> wall(frames + 1), cpu(frames + 1);  // the last: 1 x 1
+    // Per frame, and last the 1 x 1 one.
+    std::vector<std::vector<double>> wall(frames + 1), cpu(frames + 1), set_up(frames), trace(frames);
     for (int run = 0; run < runs; ++run) {
-        for (std::size_t k = 0; k <= frames; ++k) {
+        for (std::size_t k = 0; k < frames + (start_up ? 1 : 0); ++k) {
             auto start = std::chrono::steady_clock::now();
             double cpu_start = children_cpu_seconds();
             if (k < frames) {
-                pov::render_with_povray(povray, folder, name, pov_text, size.width, size.height, threads[k]);
+                pov::PovrayStatistics statistics;
+                pov::render_with_povray(povray, folder, name, pov_text, size.width, size.height, threads[k],
+                                        &statistics);
+                set_up[k].push_back(statistics.parse_cpu_seconds + statistics.bounding_cpu_seconds);
+                trace[k].push_back(statistics.trace_cpu_seconds);
             } else {
                 // Its own file name: OpenImageIO caches images by name, and the size differs.
                 pov::render_with_povray(povray, folder, name + "-1x1", tiny_text, 1, 1, 1);
@@ -63,9 +68,13 @@ PovrayTimes time_povray(const std::string& name, const scene::Scene& scene, int 
     for (std::size_t k = 0; k < frames; ++k) {
         times.frame_wall.push_back(median(wall[k]));
         times.frame_cpu.push_back(median(cpu[k]));
+        times.set_up_cpu.push_back(median(set_up[k]));
+        times.trace_cpu.push_back(median(trace[k]));
     }
-    times.start_up_wall = median(wall[frames]);
-    times.start_up_cpu = median(cpu[frames]);
+    if (start_up) {
+        times.start_up_wall = median(wall[frames]);
+        times.start_up_cpu = median(cpu[frames]);
+    }
     return times;
 }
 

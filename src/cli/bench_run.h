@@ -72,12 +72,16 @@ std::vector<Timings> time_renders(const std::vector<Configuration>& configuratio
 // POV-Ray 3.7 on `scene` exported at `width`, median of `runs`: a frame on each of `threads`, and the same
 // scene at 1 x 1 pixel (its start-up, parse and bounding, the fixed cost inside every frame); the runs take
 // the frames in turn. Wall time, and CPU time (user + system) of POV-Ray's process.
+// Medians over the runs. Per entry of `threads`: the whole process's wall and CPU time, and what POV-Ray's own
+// statistics give for its parse and bounding together and for its trace (CPU seconds); with `start_up`, a
+// 1 x 1 frame's whole process too.
 struct PovrayTimes {
-    std::vector<double> frame_wall, frame_cpu;  // per entry of `threads`
+    std::vector<double> frame_wall, frame_cpu;
+    std::vector<double> set_up_cpu, trace_cpu;
     double start_up_wall = 0, start_up_cpu = 0;
 };
 PovrayTimes time_povray(const std::string& name, const scene::Scene& scene, int width, int runs,
-                        const std::filesystem::path& povray, const std::vector<int>& threads);
+                        const std::filesystem::path& povray, const std::vector<int>& threads, bool start_up = true);
 
 // POV-Ray 3.7 on the same scene exported at the same size, against the SSE tracer's seconds per frame
 // on one thread and on all.

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <sstream>
 
 namespace twinray::pov {
@@ -22,10 +23,38 @@ std::string quoted(const fs::path& path) {
     return text + "'";
 }
 
-std::string tail_of(const fs::path& file, std::size_t characters) {
+std::string text_of(const fs::path& file) {
     std::ifstream stream(file);
-    std::string text((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
+    return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
+}
+
+std::string tail_of(const fs::path& file, std::size_t characters) {
+    std::string text = text_of(file);
     return text.size() > characters ? "..." + text.substr(text.size() - characters) : text;
+}
+
+// The CPU seconds POV-Ray's statistics give for `phase` ("Parse Time:", ...): the number before
+// " CPU-seconds total" on the lines after it, as in
+//   Trace Time:       0 hours  0 minutes  0 seconds (0.621 seconds)
+//               using 1 thread(s) with 0.618 CPU-seconds total
+std::optional<double> cpu_seconds_of(const std::string& log, const std::string& phase) {
+    std::size_t at = log.find(phase);
+    if (at == std::string::npos) {
+        return std::nullopt;
+    }
+    std::size_t with = log.find(" with ", at);
+    std::size_t total = log.find(" CPU-seconds total", at);
+    if (with == std::string::npos || total == std::string::npos || with > total) {
+        return std::nullopt;
+    }
+    try {
+        std::size_t used = 0;
+        std::string number = log.substr(with + 6, total - with - 6);
+        double seconds = std::stod(number, &used);
+        return used == number.size() && seconds >= 0 ? std::optional<double>(seconds) : std::nullopt;
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
 }
 
 }  // namespace
@@ -44,7 +73,8 @@ std::optional<fs::path> find_povray() {
 }
 
 Image render_with_povray(const fs::path& povray, const fs::path& folder, const std::string& name,
-                         const std::string& pov_text, int width, int height, int threads) {
+                         const std::string& pov_text, int width, int height, int threads,
+                         PovrayStatistics* statistics) {
     // Absolute: the command runs POV-Ray from inside the folder, and its log is written from there too.
     const fs::path where = fs::absolute(folder);
     fs::path scene = where / (name + ".pov");
@@ -56,11 +86,23 @@ Image render_with_povray(const fs::path& povray, const fs::path& folder, const s
     std::string command = "cd " + quoted(where) + " && POVINI=" + quoted(ini) + " " + quoted(povray) + " +I" +
                           quoted(scene) + " +O" + quoted(image) + " +W" + std::to_string(width) + " +H" +
                           std::to_string(height) + " -D -A -UA +FN8 File_Gamma=1.0 +WT" + std::to_string(threads) +
-                          " -GS -GR -GD > " + quoted(log) + " 2>&1";
+                          (statistics != nullptr ? " +GS" : " -GS") + " -GR -GD > " + quoted(log) + " 2>&1";
     int status = std::system(command.c_str());
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::exists(image)) {
         throw PovrayError("povray failed on " + scene.string() + " (status " + std::to_string(status) + "); its log " +
                           log.string() + " ends:\n" + tail_of(log, 2000));
+    }
+    if (statistics != nullptr) {
+        std::string text = text_of(log);
+        std::optional<double> parse = cpu_seconds_of(text, "Parse Time:");
+        std::optional<double> bounding = cpu_seconds_of(text, "Bounding Time:");
+        std::optional<double> trace = cpu_seconds_of(text, "Trace Time:");
+        if (!parse || !bounding || !trace) {
+            throw PovrayError("povray's log " + log.string() +
+                              " lacks the CPU seconds of its parse, bounding or trace (statistics, +GS); it ends:\n" +
+                              tail_of(log, 2000));
+        }
+        *statistics = {*parse, *bounding, *trace};
     }
     return compare::read_image(image);
 }
