@@ -21,8 +21,8 @@ plot summary using (($10) > floor ? $10 : floor):2 every ::1 with points pt 7 ps
 unset multiplot
 
 # Time per ray against the primitive count, one panel per family, from bench-scaling.csv (renders: every ray)
-# and bench-scaling-peers.csv (first hits of primary rays; POV-Ray's frame without its start-up over our
-# rays). Cells left out ("—") are not numbers and are skipped.
+# and bench-scaling-peers.csv (first hits of primary rays, Embree on its widest kernels and on SSE4.2; POV-Ray's
+# trace, from its statistics, over our rays). Cells left out ("—") are not numbers and are skipped.
 set output outdir."/scaling.png"
 set terminal pngcairo size 1500,560 font "DejaVu Sans,10"
 set multiplot layout 1,3 title "twinray bench --scaling: time per ray against primitives (one thread, CPU time; log-log)"
@@ -43,6 +43,7 @@ do for [family in "spheres fractal lattice"] {
          scaling using 2:(in_family(family, column(6))) with linespoints lw 2 pt 4 dt 2 lc rgb "#d62728" title "ref<double> brute force", \
          peers using 2:(in_family(family, column(4))) with linespoints lw 2 pt 9 lc rgb "#2ca02c" title "sse first hit", \
          peers using 2:(in_family(family, column(5))) with linespoints lw 2 pt 8 lc rgb "#ff7f0e" title "embree rtcIntersect1 first hit", \
-         peers using 2:(in_family(family, column(13))) with linespoints lw 2 pt 3 lc rgb "#9467bd" title "povray +WT1 - start-up, per our ray"
+         peers using 2:(in_family(family, column(7))) with linespoints lw 2 pt 8 dt 2 lc rgb "#ff7f0e" title "embree SSE4.2 first hit", \
+         peers using 2:(in_family(family, column(15))) with linespoints lw 2 pt 3 lc rgb "#9467bd" title "povray +WT1 trace, per our ray"
 }
 unset multiplot

@@ -237,17 +237,20 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
                               "sse bvh growth from ~100",
                               "widths: sse bvh / brute / ref bvh / brute",
                               "rays per pixel"};
-    report.scaling_peers.title = "Scaling against peers: first hits of primary rays (ns/ray, sse --accel " +
-                                 accel_name(arguments.accel) +
-                                 ") and whole renders (s, sse bvh) against POV-Ray 3.7 +WT1 without its start-up "
-                                 "(its trace, as its statistics give it); CPU time of one thread, " +
-                                 scaling_setting;
+    report.scaling_peers.title =
+        "Scaling against peers: first hits of primary rays (ns/ray, sse --accel " + accel_name(arguments.accel) +
+        "; Embree on the widest kernels this CPU runs and on its SSE4.2 ones) and whole renders (s, sse bvh) "
+        "against POV-Ray 3.7 +WT1 without its start-up "
+        "(its trace, as its statistics give it); CPU time of one thread, " +
+        scaling_setting;
     report.scaling_peers.headers = {"family",
                                     "primitives",
                                     "first-hit rays",
                                     "sse first hit ns/ray",
                                     "embree rtcIntersect1 ns/ray",
                                     "embree/sse",
+                                    "embree sse4.2 ns/ray",
+                                    "embree sse4.2/sse",
                                     "image",
                                     "povray +WT1 s (process)",
                                     "povray parse + bounding s",

@@ -192,25 +192,30 @@ struct SizeRun {
         double sse_ns = median_ns_per_ray(sse_cpu, hits.rays);
         std::vector<std::string> row = {family, std::to_string(primitives), std::to_string(hits.rays),
                                         cell("%.1f", sse_ns)};
-        std::vector<std::string> embree = {"left out (--no-peers)", ""};
+        std::vector<std::string> embree = {"left out (--no-peers)", "", "", ""};
         std::vector<std::string> build = {"", ""};
 #if TWINRAY_WITH_EMBREE
         if (arguments.peers) {
             progress(" embree");
-            std::vector<double> cast_cpu, build_cpu;
+            // Its widest kernels (the target's peer, and its build), and its SSE4.2 ones, as narrow as ours.
+            std::vector<double> cast_cpu, narrow_cast_cpu, build_cpu;
             for (int run = 0; run < arguments.runs; ++run) {
                 peers::EmbreePeer peer(scene, arguments.width);
                 build_cpu.push_back(peer.build_seconds());
                 cast_cpu.push_back(peer.cast_single().seconds);
+                narrow_cast_cpu.push_back(
+                    peers::EmbreePeer(scene, arguments.width, peers::EmbreeIsa::sse42).cast_single().seconds);
             }
             double embree_ns = median_ns_per_ray(cast_cpu, hits.rays);
-            embree = {cell("%.1f", embree_ns), cell("%.2f", embree_ns / sse_ns)};
+            double narrow_ns = median_ns_per_ray(narrow_cast_cpu, hits.rays);
+            embree = {cell("%.1f", embree_ns), cell("%.2f", embree_ns / sse_ns), cell("%.1f", narrow_ns),
+                      cell("%.2f", narrow_ns / sse_ns)};
             double build_seconds = median(build_cpu);
             build = {cell("%.1f", build_seconds * 1e3),
                      cell("%.2f", static_cast<double>(primitives) / build_seconds / 1e6)};
         }
 #else
-        embree = {"not built", ""};
+        embree = {"not built", "", "", ""};
         build = {"not built", ""};
 #endif
         row.insert(row.end(), embree.begin(), embree.end());

@@ -183,11 +183,11 @@ struct State {
     }
 };
 
-void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, int height) {
+void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, int height, EmbreeIsa isa) {
     auto state = std::make_unique<State>();
     State& s = *state;
     // One thread, as the SSE tracer builds its BVH: build times compare like with like.
-    s.device = rtcNewDevice("threads=1");
+    s.device = rtcNewDevice(isa == EmbreeIsa::sse42 ? "threads=1,isa=sse4.2" : "threads=1");
     if (s.device == nullptr) {
         throw std::runtime_error("Embree: rtcNewDevice failed (error " + std::to_string(rtcGetDeviceError(nullptr)) +
                                  ")");

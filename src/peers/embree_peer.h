@@ -22,11 +22,16 @@ struct FirstHitRun {
     std::uint64_t hits = 0;
 };
 
+// Which of its kernels Embree runs: the widest the CPU has (AVX-512 here: Embree compiles one set per
+// instruction set and picks at start-up), or its SSE4.2 ones, as narrow as the SSE tracer's SSE4.1 (SSE4.2
+// adds string and CRC instructions, nothing a traversal uses).
+enum class EmbreeIsa { widest, sse42 };
+
 class EmbreePeer {
 public:
-    // The scene at `width` (height by its aspect), on an Embree device of one thread. Throws
-    // std::runtime_error if Embree fails.
-    EmbreePeer(const scene::Scene& scene, int width);
+    // The scene at `width` (height by its aspect), on an Embree device of one thread running `isa`'s
+    // kernels. Throws std::runtime_error if Embree fails.
+    EmbreePeer(const scene::Scene& scene, int width, EmbreeIsa isa = EmbreeIsa::widest);
     ~EmbreePeer();
     EmbreePeer(const EmbreePeer&) = delete;
     EmbreePeer& operator=(const EmbreePeer&) = delete;
