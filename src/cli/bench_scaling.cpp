@@ -178,16 +178,31 @@ struct SizeRun {
     // First hits of the SSE tracer (--accel as given) and Embree's rtcIntersect1 on the same primary rays, and
     // POV-Ray's frame against the SSE BVH's, at the SSE BVH's width.
     void peers(const Timings& sse_bvh, int sse_width) const {
-        progress(" first-hits");
+        progress(" first-hits, builds");
         RenderOptions options;
         options.width = arguments.width;
         options.threads = 1;
         options.accel = arguments.accel;
-        std::vector<double> sse_cpu;
+        // Each run times every side in turn, ours and Embree's: this VM's speed drifts by a third over seconds,
+        // and a ratio of two sides timed far apart would carry that drift.
+        std::vector<double> sse_cpu, sse_build_cpu, embree_cpu, narrow_cpu, embree_build_cpu;
         sse::FirstHits hits;
+        sse::BvhStats stats;
         for (int run = 0; run < arguments.runs; ++run) {
             hits = sse::cast_primary_rays(scene, options);
             sse_cpu.push_back(hits.tracing_cpu_seconds);
+            stats = sse::Tracer(scene, {}, Accel::bvh).bvh_stats();
+            sse_build_cpu.push_back(stats.build_cpu_seconds);
+#if TWINRAY_WITH_EMBREE
+            if (arguments.peers) {
+                // Its widest kernels (the target's peer, and its build), and its SSE4.2 ones, as narrow as ours.
+                peers::EmbreePeer peer(scene, arguments.width);
+                embree_build_cpu.push_back(peer.build_seconds());
+                embree_cpu.push_back(peer.cast_single().seconds);
+                narrow_cpu.push_back(
+                    peers::EmbreePeer(scene, arguments.width, peers::EmbreeIsa::sse42).cast_single().seconds);
+            }
+#endif
         }
         double sse_ns = median_ns_per_ray(sse_cpu, hits.rays);
         std::vector<std::string> row = {family, std::to_string(primitives), std::to_string(hits.rays),
@@ -196,21 +211,11 @@ struct SizeRun {
         std::vector<std::string> build = {"", ""};
 #if TWINRAY_WITH_EMBREE
         if (arguments.peers) {
-            progress(" embree");
-            // Its widest kernels (the target's peer, and its build), and its SSE4.2 ones, as narrow as ours.
-            std::vector<double> cast_cpu, narrow_cast_cpu, build_cpu;
-            for (int run = 0; run < arguments.runs; ++run) {
-                peers::EmbreePeer peer(scene, arguments.width);
-                build_cpu.push_back(peer.build_seconds());
-                cast_cpu.push_back(peer.cast_single().seconds);
-                narrow_cast_cpu.push_back(
-                    peers::EmbreePeer(scene, arguments.width, peers::EmbreeIsa::sse42).cast_single().seconds);
-            }
-            double embree_ns = median_ns_per_ray(cast_cpu, hits.rays);
-            double narrow_ns = median_ns_per_ray(narrow_cast_cpu, hits.rays);
+            double embree_ns = median_ns_per_ray(embree_cpu, hits.rays);
+            double narrow_ns = median_ns_per_ray(narrow_cpu, hits.rays);
             embree = {cell("%.1f", embree_ns), cell("%.2f", embree_ns / sse_ns), cell("%.1f", narrow_ns),
                       cell("%.2f", narrow_ns / sse_ns)};
-            double build_seconds = median(build_cpu);
+            double build_seconds = median(embree_build_cpu);
             build = {cell("%.1f", build_seconds * 1e3),
                      cell("%.2f", static_cast<double>(primitives) / build_seconds / 1e6)};
         }
@@ -246,19 +251,11 @@ struct SizeRun {
             }
         }
         report.scaling_peers.add_row(row);
-        build_row(build);
+        build_row(stats, median(sse_build_cpu), build);
     }
 
     // The SSE tracer's BVH (sse::Tracer::bvh_stats): build time on one thread, rate, bytes per item.
-    void build_row(const std::vector<std::string>& embree_build) const {
-        progress(" build");
-        std::vector<double> build_cpu;
-        sse::BvhStats stats;
-        for (int run = 0; run < arguments.runs; ++run) {
-            stats = sse::Tracer(scene, {}, Accel::bvh).bvh_stats();
-            build_cpu.push_back(stats.build_cpu_seconds);
-        }
-        double seconds = median(build_cpu);
+    void build_row(const sse::BvhStats& stats, double seconds, const std::vector<std::string>& embree_build) const {
         double rate = static_cast<double>(stats.items) / seconds / 1e6;
         std::vector<std::string> row = {
             family,
