@@ -163,15 +163,18 @@ public:
         Nearest4 nearest;
         auto keep = [&](const Span4& span, std::int32_t leaf, float, std::uint32_t) {
             keep_nearest(nearest, span, leaf);
-            prefetch_leaf(leaf);
         };
         for_each_span<P>(candidates, rays, keep);
         CsgCandidates csg;
         if (!scene_.bvh.empty()) {
+            auto keep_and_fetch = [&](const Span4& span, std::int32_t leaf, float transmission, std::uint32_t list) {
+                keep(span, leaf, transmission, list);
+                prefetch_leaf(leaf);
+            };
             csg.collect();
             vbool4 lanes = rays.active;
             for_each_leaf_met(scene_.bvh, BvhRays(rays), lanes, nearest.t,
-                              [&](BvhLeaf leaf) { for_each_span_in_leaf<P>(scene_, leaf, rays, csg, keep); });
+                              [&](BvhLeaf leaf) { for_each_span_in_leaf<P>(scene_, leaf, rays, csg, keep_and_fetch); });
         }
         if (!scene_.csg_objects.empty()) {
             nearest_csg_crossings(rays, nearest, csg);
@@ -183,9 +186,10 @@ public:
     }
 
 private:
-    // finish() reads the Leaf of each lane's nearest hit, which is in file order while the walk visits
+    // finish() reads the Leaf of each lane's nearest hit, which is in file order while a BVH's walk visits
     // primitives in leaf order: at a million primitives a cache miss per lane, a fifth of the first hits'
     // time, unless it is fetched while the walk goes on. Every primitive a ray meets may end up its nearest.
+    // Without a BVH the primitives are tested in file order, the leaves' own: nothing to fetch ahead.
     void prefetch_leaf(std::int32_t leaf) const {
         const char* bytes = reinterpret_cast<const char*>(&scene_.leaves[static_cast<std::size_t>(leaf)]);
         _mm_prefetch(bytes, _MM_HINT_T0);
