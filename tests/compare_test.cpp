@@ -297,6 +297,15 @@ TEST(CompareReadImage, AnExrHeaderClaimingMoreThanTheFileOrThePixelLimitIsRefuse
     EXPECT_EQ(refusal_of(test_image("tiled_piz.exr"), 24), "") << "6 x 4 in tiles of 4 x 4 at the limit";
 }
 
+// An 860-byte tiled file of image_loader_fuzz whose header lacks the attributes OpenEXR requires (its data
+// window, compression, tiles, ...): OpenEXR 3.1 and oiiotool went on with defaults for over 30 s.
+TEST(CompareReadImage, AnExrHeaderLackingARequiredAttributeIsRefusedBeforeOpenExrReadsIt) {
+    std::string refusal = refusal_of(image_fuzz_input("slow-unit-c5df5a6058f8d10dc2887d4372a528c964cce1e4.exr"));
+    EXPECT_NE(refusal.find("its header lacks the attribute 'compression', which OpenEXR requires"), std::string::npos)
+        << refusal;
+    EXPECT_EQ(refusal_of(test_image("tiled_piz.exr")), "") << "a tiled file with every required attribute";
+}
+
 TEST(CompareReadImage, TheExtensionChoosesTheReaderWithoutFallingBackToOthers) {
     fs::path folder = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "misnamed";
     fs::create_directories(folder);
