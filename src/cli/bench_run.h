@@ -69,12 +69,10 @@ struct Timings {
 std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene,
                                   int width, int runs, std::vector<Image>* last_images, Accel accel = Accel::automatic);
 
-// POV-Ray 3.7 on `scene` exported at `width`, median of `runs`: a frame on each of `threads`, and the same
-// scene at 1 x 1 pixel (its start-up, parse and bounding, the fixed cost inside every frame); the runs take
-// the frames in turn. Wall time, and CPU time (user + system) of POV-Ray's process.
-// Medians over the runs. Per entry of `threads`: the whole process's wall and CPU time, and what POV-Ray's own
-// statistics give for its parse and bounding together and for its trace (CPU seconds); with `start_up`, a
-// 1 x 1 frame's whole process too.
+// POV-Ray 3.7 on `scene` exported at `width`, median of `runs`, the runs taking the frames in turn: a frame on
+// each of `threads` (the wall and CPU time, user + system, of POV-Ray's process, and the CPU seconds its own
+// statistics give for its parse and bounding together and for its trace) and, with `start_up`, the same scene
+// at 1 x 1 pixel (its start-up, parse and bounding, the fixed cost inside every frame).
 struct PovrayTimes {
     std::vector<double> frame_wall, frame_cpu;
     std::vector<double> set_up_cpu, trace_cpu;

@@ -175,8 +175,9 @@ struct SizeRun {
         report.scaling.add_row(row);
     }
 
-    // First hits of the SSE tracer (--accel as given) and Embree's rtcIntersect1 on the same primary rays, and
-    // POV-Ray's frame against the SSE BVH's, at the SSE BVH's width.
+    // First hits of the SSE tracer (--accel as given) and Embree's rtcIntersect1 (its widest kernels and its
+    // SSE4.2 ones) on the same primary rays, both BVHs' builds, and POV-Ray's trace against the SSE BVH's
+    // render, at the SSE BVH's width.
     void peers(const Timings& sse_bvh, int sse_width) const {
         progress(" first-hits, builds");
         RenderOptions options;

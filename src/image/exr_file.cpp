@@ -65,6 +65,11 @@ void refuse_pixels_over(std::int64_t width, std::int64_t height, std::int64_t pi
     }
 }
 
+// The attributes OpenEXR requires of every part's header.
+constexpr const char* required_attributes[] = {"channels",           "compression",      "dataWindow",
+                                               "displayWindow",      "lineOrder",        "pixelAspectRatio",
+                                               "screenWindowCenter", "screenWindowWidth"};
+
 }  // namespace
 
 void check_exr_header_claims(const std::filesystem::path& path, std::int64_t pixel_limit) {
@@ -96,8 +101,7 @@ void check_exr_header_claims(const std::filesystem::path& path, std::int64_t pix
         // The attributes OpenEXR requires of every part (and of a single-part tiled file, its tiles).
         // Without them OpenEXR 3.1 goes on with defaults: an 860-byte tiled file lacking its data window
         // and tile description took over 30 s to read (fuzz, slow-unit-c5df5a60).
-        std::vector<std::string> missing = {"channels",  "compression",      "dataWindow",         "displayWindow",
-                                            "lineOrder", "pixelAspectRatio", "screenWindowCenter", "screenWindowWidth"};
+        std::vector<std::string> missing(std::begin(required_attributes), std::end(required_attributes));
         if (single_part_tiled) {
             missing.push_back("tiles");
         }
@@ -131,10 +135,12 @@ void check_exr_header_claims(const std::filesystem::path& path, std::int64_t pix
             }
         }
         if (!missing.empty()) {
+            std::string all;
+            for (const char* attribute : required_attributes) {
+                all += std::string(attribute) + ", ";
+            }
             throw std::runtime_error("its header lacks the attribute '" + missing.front() +
-                                     "', which OpenEXR requires (channels, compression, dataWindow, displayWindow, "
-                                     "lineOrder, pixelAspectRatio, screenWindowCenter, screenWindowWidth, and tiles "
-                                     "in a tiled file)");
+                                     "', which OpenEXR requires (" + all + "and tiles in a tiled file)");
         }
         file.get();  // the zero that ends this part's header
     }
