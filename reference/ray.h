@@ -27,8 +27,12 @@ struct Hit {
     Vec3<T> point;          // re-projected onto the primitive's surface (surface_point in its header)
     Vec3<T> normal;         // unit, facing the ray: dot(normal, direction) <= 0
     int leaf = -1;          // the primitive whose surface was hit (Scene::leaf_paths)
-    bool entering = false;  // the ray enters the (composite) solid here
+    int triangle = -1;      // for a mesh, the triangle's index in it; -1 for any other primitive
+    bool entering = false;  // the ray enters the (composite) solid here; on a mesh, meets a triangle's front
     T spawn_offset{};       // how far off the surface secondary rays start (SurfacePoint::spawn_offset)
+    // What shading uses (N·L, Phong, reflected and refracted directions): `normal` itself, or on a smooth
+    // mesh the interpolated normal turned to its side. `normal` still decides sides and spawn offsets.
+    Vec3<T> shading_normal;
 };
 
 // The unit vector along `radial`, the normal of a curved surface at a hit. A primitive smaller than the

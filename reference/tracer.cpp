@@ -118,8 +118,8 @@ int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const Ray<T>&
     }
     int index = tree->add(kind, depth, parent, recorded(ray.origin), recorded(ray.direction));
     if (hit) {
-        tree->set_hit(index, hit->leaf, static_cast<double>(hit->t), recorded(hit->point), recorded(hit->normal),
-                      hit->entering);
+        tree->set_hit(index, hit->leaf, hit->triangle, static_cast<double>(hit->t), recorded(hit->point),
+                      recorded(hit->normal), hit->entering);
     }
     return index;
 }
@@ -152,6 +152,9 @@ Tracer<T>::Tracer(const scene::Scene& scene, Accel accel)
     }
     if (accel == Accel::bvh || (accel == Accel::automatic && bounded_primitives > bvh_crossover)) {
         bvh_ = ObjectBvh<T>(bounds);
+    }
+    for (const scene::Mesh& mesh : scene.meshes) {
+        meshes_.push_back(make_shape<T>(mesh, accel));
     }
 }
 
@@ -197,17 +200,40 @@ std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
                 (!nearest || crossing.t < nearest->t || (crossing.t == nearest->t && crossing.leaf < nearest->leaf))) {
                 Vec3<T> facing = dot(crossing.outward_normal, ray.direction) > T(0) ? -crossing.outward_normal
                                                                                     : crossing.outward_normal;
-                nearest = Hit<T>{crossing.t, ray.at(crossing.t), facing, crossing.leaf, entering};
+                nearest = Hit<T>{crossing.t, ray.at(crossing.t), facing, crossing.leaf, -1, entering, T(0), facing};
             }
             break;
         }
     });
-    if (nearest) {
-        SurfacePoint<T> on_surface =
-            std::visit([&](const auto& shape) { return surface_point(shape, nearest->point, nearest->normal); },
-                       leaf_shapes_[static_cast<std::size_t>(nearest->leaf)]);
-        nearest->point = on_surface.point;
-        nearest->spawn_offset = on_surface.spawn_offset;
+    // Ties at equal t: the earlier leaf, then within a mesh the lower triangle.
+    const MeshShape<T>* hit_mesh = nullptr;
+    for (const MeshShape<T>& mesh : meshes_) {
+        for_each_crossing(mesh, ray, limit, [&](const TriangleCrossing<T>& crossing) {
+            int triangle = static_cast<int>(crossing.triangle);
+            if (!nearest || crossing.t < nearest->t ||
+                (crossing.t == nearest->t &&
+                 (mesh.leaf < nearest->leaf || (mesh.leaf == nearest->leaf && triangle < nearest->triangle)))) {
+                Vec3<T> front = front_normal(mesh, crossing.triangle);
+                Vec3<T> facing = crossing.front ? front : -front;
+                nearest =
+                    Hit<T>{crossing.t, ray.at(crossing.t), facing, mesh.leaf, triangle, crossing.front, T(0), facing};
+                hit_mesh = &mesh;
+            }
+        });
+    }
+    if (!nearest) {
+        return nearest;
+    }
+    SurfacePoint<T> on_surface =
+        hit_mesh != nullptr
+            ? surface_point(*hit_mesh, static_cast<std::uint32_t>(nearest->triangle), nearest->point, nearest->normal)
+            : std::visit([&](const auto& shape) { return surface_point(shape, nearest->point, nearest->normal); },
+                         leaf_shapes_[static_cast<std::size_t>(nearest->leaf)]);
+    nearest->point = on_surface.point;
+    nearest->spawn_offset = on_surface.spawn_offset;
+    if (hit_mesh != nullptr) {
+        nearest->shading_normal =
+            shading_normal(*hit_mesh, static_cast<std::uint32_t>(nearest->triangle), nearest->point, nearest->normal);
     }
     return nearest;
 }
@@ -236,10 +262,10 @@ T Tracer<T>::shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const 
     if (bvh_.empty()) {
         for (const Shape<T>& object : objects_) {
             if (!passes(object)) {
-                break;
+                return transmittance;
             }
         }
-        return transmittance;
+        return meshes_transmittance(ray, distance, transmittance);
     }
     // Float products depend on their order: the objects the BVH finds are multiplied in the file's order.
     std::vector<std::size_t> met;
@@ -248,10 +274,45 @@ T Tracer<T>::shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const 
     std::sort(met.begin(), met.end());
     for (std::size_t object : met) {
         if (!passes(objects_[object])) {
+            return transmittance;
+        }
+    }
+    return meshes_transmittance(ray, distance, transmittance);
+}
+
+// Each triangle crossed strictly before the light multiplies in its mesh's transmission, mesh after mesh in
+// file order, after the objects; all of a mesh's factors are equal, so the order its BVH finds them in cannot
+// change the product. Once nothing gets through, the walk's limit drops below 0 and it stops.
+template <typename T>
+T Tracer<T>::meshes_transmittance(const Ray<T>& ray, T distance, T transmittance) const {
+    for (const MeshShape<T>& mesh : meshes_) {
+        T surface = material_of(mesh.leaf).transmission;
+        for_each_crossing(
+            mesh, ray, [&] { return transmittance == T(0) ? T(-1) : distance; },
+            [&](const TriangleCrossing<T>& crossing) {
+                if (crossing.t < distance) {
+                    transmittance *= surface;
+                }
+            });
+        if (transmittance == T(0)) {
             break;
         }
     }
     return transmittance;
+}
+
+template <typename T>
+int Tracer<T>::mesh_crossings(const Ray<T>& ray, T distance) const {
+    int count = 0;
+    if (!is_traceable(ray)) {
+        return count;
+    }
+    for (const MeshShape<T>& mesh : meshes_) {
+        for_each_crossing(
+            mesh, ray, [&] { return distance; },
+            [&](const TriangleCrossing<T>& crossing) { count += crossing.t < distance ? 1 : 0; });
+    }
+    return count;
 }
 
 // Secondary rays start off the surface, on the side they leave to, by the hit's spawn_offset: the bound on
@@ -312,10 +373,11 @@ Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, const
     RayTree* tree = walk.tree;
     const Material<T>& m = material_of(hit.leaf);
     Color<T> color = m.ambient * (m.color * ambient_light_);
-    Vec3<T> mirror = reflect(ray.direction, hit.normal);
+    const Vec3<T>& shading = hit.shading_normal;
+    Vec3<T> mirror = reflect(ray.direction, shading);
     for (const Light<T>& light : lights_) {
         Vec3<T> to_light = normalize(light.position - hit.point);
-        T lambert = dot(hit.normal, to_light);
+        T lambert = dot(shading, to_light);
         if (!(lambert > T(0))) {
             if (tree != nullptr) [[unlikely]] {
                 tree->add_light_facing_away(node, static_cast<double>(lambert));
@@ -349,7 +411,7 @@ Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, const
     bool total_internal = false;
     if (m.transmission > T(0)) {
         T eta = hit.entering ? T(1) / m.ior : m.ior;
-        if (std::optional<Vec3<T>> refracted = refract(ray.direction, hit.normal, eta)) {
+        if (std::optional<Vec3<T>> refracted = refract(ray.direction, shading, eta)) {
             scene::RayShare child = depth_control_.refracted(share, material);
             if (admits(child, depth + 1, walk, RayKind::refracted, node)) {
                 Ray<T> next{spawn_origin(hit, *refracted), *refracted};

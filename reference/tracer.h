@@ -10,6 +10,7 @@
 #include "reference/plane.h"
 #include "reference/ray.h"
 #include "reference/sphere.h"
+#include "reference/triangle.h"
 #include "render/ray_tree.h"
 #include "render/render.h"
 #include "scene/depth_control.h"
@@ -89,6 +90,10 @@ public:
     // the transmission of every surface crossed strictly before the light.
     T shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const;
 
+    // How many mesh triangles the ray crosses with t in (0, distance): what the watertightness suite counts
+    // (accuracy/watertight.h), 1 where a ray leaves a closed mesh once.
+    int mesh_crossings(const Ray<T>& ray, T distance) const;
+
     // Where a secondary ray leaving `hit` towards `direction` starts: hit.spawn_offset off the surface.
     static Vec3<T> spawn_origin(const Hit<T>& hit, Vec3<T> direction);
 
@@ -104,6 +109,9 @@ private:
 
     // intersect() without the check of the ray: every ray the tracer makes itself is traceable.
     std::optional<Hit<T>> first_hit(const Ray<T>& ray) const;
+    // `transmittance` (the objects' product so far) times that of every mesh triangle the ray crosses before
+    // `distance`.
+    T meshes_transmittance(const Ray<T>& ray, T distance, T transmittance) const;
     // trace() of one ray of the tree, recorded (if walk.tree) as a `kind` child of node `parent`.
     Color<T> trace_ray(const Ray<T>& ray, int depth, const scene::RayShare& share, TreeWalk& walk, RayKind kind,
                        int parent) const;
@@ -123,6 +131,8 @@ private:
     std::vector<Shape<T>> objects_;
     std::vector<PrimitiveShape<T>> leaf_shapes_;  // by leaf index: where hit points are re-projected
     ObjectBvh<T> bvh_;                            // empty: every ray tests every object
+    // Tested by every ray after the objects, each through its own BVH; a mesh's leaf in leaf_shapes_ is unused.
+    std::vector<MeshShape<T>> meshes_;
 
     // Calls visit(object) for the objects a ray may meet within [0, limit()]: every object, or with a BVH the
     // unbounded ones and those it finds (in no particular order).

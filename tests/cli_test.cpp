@@ -360,7 +360,7 @@ TEST_F(CliTest, BenchScalingOnlyWritesItsTables) {
         while (std::getline(csv, line)) {
             ++rows;
         }
-        EXPECT_EQ(rows, 3) << table << ": spheres, fractal, lattice";
+        EXPECT_EQ(rows, 5) << table << ": spheres, fractal, lattice, sphere-mesh, tetra";
     }
     std::ifstream markdown(output("bench.md"));
     std::string text((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());

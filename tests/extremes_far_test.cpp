@@ -138,7 +138,15 @@ TEST_P(FarFromTheOrigin, SseImageStaysWithinTheUntranslatedScenesToleranceForEve
 // 16·u·S/(size·|cos θ|) rad (a curved normal is (p − centre)/radius; a plane's is exact within u: its
 // bound is taken with size = S). Before
 // re-basing S was the distance from the world's origin: at 1e7, 16·u·S ≈ 9.5, larger than the scenes.
+// Both tests below measure against numerics' exact geometry, written per primitive type; it has no meshes
+// yet, whose hits far from the origin the watertightness suite judges (1 to 1e7, accuracy/watertight.h).
+#define TWINRAY_SKIP_MESHES_FOR_EXACT_GEOMETRY()                                                              \
+    if (scene_.has_meshes()) {                                                                                \
+        GTEST_SKIP() << "numerics' exact geometry has no meshes yet (tests/watertight_test.cpp judges them)"; \
+    }
+
 TEST_P(FarFromTheOrigin, PrimaryHitsAreWithinSixteenUnitRoundoffsOfSizePlusDistanceFromTheCamera) {
+    TWINRAY_SKIP_MESHES_FOR_EXACT_GEOMETRY();
     std::vector<const twinray::scene::Object*> leaves = twinray::numerics::leaf_objects(scene_);
     double worst_t_share = 0, worst_normal_share = 0;
     long checked = 0;
@@ -196,6 +204,7 @@ TEST_P(FarFromTheOrigin, PrimaryHitsAreWithinSixteenUnitRoundoffsOfSizePlusDista
 // leaves, against the geometry the SSE tracer holds (rounded to float relative to its eye). Prints each
 // tracer's largest primary hit-point error (distance from the true surface, in scene units) beside it.
 TEST_P(FarFromTheOrigin, NoSecondaryRayReHitsTheSurfaceItLeaves) {
+    TWINRAY_SKIP_MESHES_FOR_EXACT_GEOMETRY();
     for (double shift : shifts) {
         twinray::scene::Scene moved = twinray::numerics::transformed(scene_, 1, shift);
         twinray::numerics::Measurement naive = twinray::numerics::measure(moved, TracerKind::reference_float, 16, 1);

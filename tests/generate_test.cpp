@@ -1,6 +1,7 @@
-// `twinray generate`: every family's scene loads with our loader, has the size its rule promises,
-// renders with both tracers, and is the same bytes for the same family, size and seed; bad requests
-// are refused with the usual statuses and leave nothing behind.
+// `twinray generate`: every family's scene has the size its rule promises and is the same bytes for the
+// same family, size and seed; the primitive families' scenes load with our loader and render with both
+// tracers; the mesh families' meshes, read with nlohmann json, are closed and wound outward where they
+// should be; bad requests are refused with the usual statuses and leave nothing behind.
 #include "cli/exit_codes.h"
 #include "cli/generate_scene.h"
 #include "reference/tracer.h"
@@ -10,15 +11,19 @@
 #include "sse/tracer.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -32,7 +37,16 @@ using twinray::test::CommandResult;
 using twinray::test::run_twinray;
 using twinray::test::RunningTwinray;
 
-const std::vector<std::string> families = {"fractal", "field", "lattice", "csg"};
+// The families of primitives the loader reads, and those of one triangle mesh, checked from their JSON.
+const std::vector<std::string> primitive_families = {"fractal", "field", "lattice", "csg"};
+const std::vector<std::string> mesh_families = {"sphere-mesh", "torus-mesh", "tetra", "sombrero", "triangle-soup"};
+const std::vector<std::string> closed_mesh_families = {"sphere-mesh", "torus-mesh", "tetra"};
+
+std::vector<std::string> all_families() {
+    std::vector<std::string> all = primitive_families;
+    all.insert(all.end(), mesh_families.begin(), mesh_families.end());
+    return all;
+}
 
 struct Generated {
     GeneratedScene scene;
@@ -84,6 +98,80 @@ std::int64_t promised_primitives(const std::string& family, int size) {
     return nearest(achievable, size);
 }
 
+// The mesh families' rules of generate_scene.h, restated the same way.
+std::int64_t promised_triangles(const std::string& family, int size) {
+    if (family == "triangle-soup") {
+        return size;
+    }
+    if (family == "tetra") {
+        std::int64_t triangles = 4;
+        while (4 * triangles <= size) {
+            triangles *= 4;
+        }
+        return triangles;
+    }
+    std::vector<std::int64_t> achievable;
+    for (std::int64_t n = 1; n <= 1000; ++n) {
+        if (family == "sphere-mesh" && n >= 2) {
+            achievable.push_back(4 * n * (n - 1));
+        } else if (family == "torus-mesh" && n >= 3) {
+            achievable.push_back(6 * n * n);
+        } else if (family == "sombrero") {
+            achievable.push_back(2 * n * n);
+        }
+    }
+    return nearest(achievable, size);
+}
+
+using Point = std::array<double, 3>;
+using Triangle = std::array<std::size_t, 3>;
+
+struct Mesh {
+    std::vector<Point> vertices;
+    std::vector<Triangle> triangles;
+    std::vector<Point> normals;  // empty for a flat mesh
+};
+
+// A mesh family's scene read with nlohmann json, not our loader: its objects must be the floor and one mesh.
+Mesh read_mesh(const std::string& text) {
+    const nlohmann::json scene = nlohmann::json::parse(text);
+    const nlohmann::json& objects = scene.at("objects");
+    EXPECT_EQ(objects.size(), 2u);
+    EXPECT_EQ(objects.at(0).at("type"), "plane");
+    const nlohmann::json& object = objects.at(1);
+    EXPECT_EQ(object.at("type"), "mesh");
+    Mesh mesh;
+    mesh.vertices = object.at("vertices").get<std::vector<Point>>();
+    mesh.triangles = object.at("triangles").get<std::vector<Triangle>>();
+    if (object.contains("normals")) {
+        mesh.normals = object.at("normals").get<std::vector<Point>>();
+        EXPECT_EQ(object.at("smooth"), true);
+    }
+    return mesh;
+}
+
+Point minus(const Point& a, const Point& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+
+Point cross(const Point& a, const Point& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+double dot(const Point& a, const Point& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// The volume a closed mesh encloses, positive when its triangles are counter-clockwise seen from outside
+// (the divergence theorem: the sum of the tetrahedra from the origin to each triangle).
+double signed_volume(const Mesh& mesh) {
+    double volume = 0;
+    for (const auto& [a, b, c] : mesh.triangles) {
+        volume += dot(mesh.vertices[a], cross(mesh.vertices[b], mesh.vertices[c])) / 6;
+    }
+    return volume;
+}
+
 class GenerateTest : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -105,12 +193,24 @@ protected:
     fs::path folder_;
 };
 
+// Test names may hold only letters, digits and underscores.
+std::string test_name(const ::testing::TestParamInfo<std::string>& param_info) {
+    std::string name = param_info.param;
+    std::replace(name.begin(), name.end(), '-', '_');
+    return name;
+}
+
 class EveryFamily : public GenerateTest, public ::testing::WithParamInterface<std::string> {};
+class PrimitiveFamily : public GenerateTest, public ::testing::WithParamInterface<std::string> {};
+class MeshFamily : public GenerateTest, public ::testing::WithParamInterface<std::string> {};
+class ClosedMeshFamily : public GenerateTest, public ::testing::WithParamInterface<std::string> {};
 
-INSTANTIATE_TEST_SUITE_P(Families, EveryFamily, ::testing::ValuesIn(families),
-                         [](const auto& param_info) { return param_info.param; });
+INSTANTIATE_TEST_SUITE_P(Families, EveryFamily, ::testing::ValuesIn(all_families()), test_name);
+INSTANTIATE_TEST_SUITE_P(Families, PrimitiveFamily, ::testing::ValuesIn(primitive_families), test_name);
+INSTANTIATE_TEST_SUITE_P(Families, MeshFamily, ::testing::ValuesIn(mesh_families), test_name);
+INSTANTIATE_TEST_SUITE_P(Families, ClosedMeshFamily, ::testing::ValuesIn(closed_mesh_families), test_name);
 
-TEST_P(EveryFamily, GeneratedScenesLoadAndHaveTheRequestedSize) {
+TEST_P(PrimitiveFamily, GeneratedScenesLoadAndHaveTheRequestedSize) {
     for (int size : {1, 2, 3, 10, 11, 99, 1000, 5000, 30000}) {
         Generated generated = generate(GetParam(), size);
         twinray::scene::Scene scene = twinray::scene::parse_scene(generated.text, GetParam());
@@ -129,7 +229,7 @@ TEST_P(EveryFamily, GenerateIsByteIdenticalForTheSameSeed) {
     EXPECT_EQ(written, generate(GetParam(), 500, 7).text) << "the command writes what generate_scene writes";
 }
 
-TEST_P(EveryFamily, GenerateReportsHowManyPrimitivesItWrote) {
+TEST_P(PrimitiveFamily, GenerateReportsHowManyPrimitivesItWrote) {
     CommandResult result = run_twinray("generate " + GetParam() + " --size 100 -o " + path("s.json"));
     ASSERT_EQ(result.exit_status, twinray::cli::exit_success) << result.output;
     std::size_t leaves = twinray::scene::load_scene(path("s.json")).leaf_paths.size();
@@ -140,7 +240,7 @@ TEST_P(EveryFamily, GenerateReportsHowManyPrimitivesItWrote) {
 // A small scene of each family rendered by reference<double> and the SSE tracer at 40 × 30: the
 // family's objects (not only its floor) must show, in the share of pixels that differ from the same
 // view of the floor alone.
-TEST_P(EveryFamily, GeneratedScenesRenderWithBothTracers) {
+TEST_P(PrimitiveFamily, GeneratedScenesRenderWithBothTracers) {
     twinray::scene::Scene scene = twinray::scene::parse_scene(generate(GetParam(), 60).text, GetParam());
     // The floor is written first: leaf 0, objects[0].
     twinray::scene::Scene floor_only = scene;
@@ -174,6 +274,114 @@ TEST_P(EveryFamily, GeneratedScenesRenderWithBothTracers) {
         << "sse";
 }
 
+// Up to 30 000 the JSON is read back; the largest size holds the rule's cap, counted as it is written.
+TEST_P(MeshFamily, MeshScenesAreTheFloorAndOneMeshOfTheTrianglesTheRulePromises) {
+    for (int size : {1, 2, 3, 10, 11, 99, 1000, 5000, 30000, 100000, max_generated_primitives}) {
+        Generated generated = generate(GetParam(), size);
+        EXPECT_EQ(generated.scene.primitives, 2) << "--size " << size;
+        EXPECT_EQ(generated.scene.triangles, promised_triangles(GetParam(), size)) << "--size " << size;
+        if (size > 30000) {
+            continue;
+        }
+        Mesh mesh = read_mesh(generated.text);
+        EXPECT_EQ(static_cast<std::int64_t>(mesh.triangles.size()), generated.scene.triangles) << "--size " << size;
+        for (const Triangle& triangle : mesh.triangles) {
+            for (std::size_t index : triangle) {
+                ASSERT_LT(index, mesh.vertices.size()) << "--size " << size;
+            }
+        }
+    }
+}
+
+// The curved meshes are smooth, with normals on the coordinates' grid, so each within a grid step of unit
+// length; the tetrahedra and the soup are flat.
+TEST_P(MeshFamily, CurvedMeshesHaveOneUnitNormalPerVertexAndFlatOnesNone) {
+    const bool curved = GetParam() == "sphere-mesh" || GetParam() == "torus-mesh" || GetParam() == "sombrero";
+    for (int size : {10, 1000, 20000}) {
+        Mesh mesh = read_mesh(generate(GetParam(), size).text);
+        ASSERT_EQ(mesh.normals.size(), curved ? mesh.vertices.size() : 0) << "--size " << size;
+        for (const Point& normal : mesh.normals) {
+            ASSERT_NEAR(std::sqrt(dot(normal, normal)), 1, 1e-3) << "--size " << size;
+        }
+    }
+}
+
+// Each directed edge once and its reverse once: every edge is shared by exactly two triangles that cross
+// it in opposite directions, so the surface is closed and its winding consistent.
+TEST_P(ClosedMeshFamily, EveryEdgeIsSharedByTwoTrianglesWoundOppositely) {
+    for (int size : {1, 50, 1000, 20000}) {
+        Mesh mesh = read_mesh(generate(GetParam(), size).text);
+        std::map<std::pair<std::size_t, std::size_t>, int> directed_edges;
+        for (const auto& [a, b, c] : mesh.triangles) {
+            for (auto edge : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+                ++directed_edges[edge];
+            }
+        }
+        int repeated = 0, unmatched = 0;
+        for (const auto& [edge, uses] : directed_edges) {
+            repeated += uses != 1 ? 1 : 0;
+            unmatched += directed_edges.count({edge.second, edge.first}) != 1 ? 1 : 0;
+        }
+        EXPECT_EQ(repeated, 0) << "--size " << size;
+        EXPECT_EQ(unmatched, 0) << "--size " << size;
+    }
+}
+
+TEST_P(ClosedMeshFamily, ClosedMeshesAreWoundOutwardWithAPositiveVolume) {
+    for (int size : {1, 50, 1000, 20000}) {
+        EXPECT_GT(signed_volume(read_mesh(generate(GetParam(), size).text)), 0) << "--size " << size;
+    }
+}
+
+// A sphere of radius 1 and a torus of radii 1 and 1/3: the mesh's volume approaches the solid's as its
+// triangles shrink.
+TEST_F(GenerateTest, SphereAndTorusMeshesEncloseTheirSolidsVolume) {
+    const double pi = 3.141592653589793;
+    const std::vector<std::pair<std::string, double>> solids = {{"sphere-mesh", 4 * pi / 3},
+                                                                {"torus-mesh", 2 * pi * pi / 9}};
+    for (const auto& [family, volume] : solids) {
+        double coarse = signed_volume(read_mesh(generate(family, 1000).text));
+        double fine = signed_volume(read_mesh(generate(family, 20000).text));
+        EXPECT_LT(std::fabs(fine - volume), std::fabs(coarse - volume)) << family;
+        EXPECT_NEAR(fine, volume, 0.005 * volume) << family;
+    }
+}
+
+// Each level keeps four of the eight half-size copies: the volume halves with the depth. The regular
+// tetrahedron of edge √3 holds √3³/(6√2).
+TEST_F(GenerateTest, TetraHalvesTheTetrahedronsVolumeAtEachDepth) {
+    double volume = std::sqrt(27.0) / (6 * std::sqrt(2.0));
+    for (int size : {4, 16, 64, 256, 1024, 4096, 16384}) {
+        EXPECT_NEAR(signed_volume(read_mesh(generate("tetra", size).text)), volume, 0.005 * volume) << size;
+        volume /= 2;
+    }
+}
+
+TEST_F(GenerateTest, SphereAndTorusMeshesShareEveryVertex) {
+    for (const char* family : {"sphere-mesh", "torus-mesh"}) {
+        for (int size : {1, 1000, 20000}) {
+            std::vector<Point> vertices = read_mesh(generate(family, size).text).vertices;
+            std::sort(vertices.begin(), vertices.end());
+            EXPECT_EQ(std::adjacent_find(vertices.begin(), vertices.end()), vertices.end()) << family << " " << size;
+        }
+    }
+}
+
+// A height field over the floor: every triangle's front faces up, and no two triangles overlap seen from
+// above (their areas projected on the floor add up to the square's, 6 × 6).
+TEST_F(GenerateTest, SombreroIsOneSheetFacingUp) {
+    for (int size : {2, 1000, 20000}) {
+        Mesh mesh = read_mesh(generate("sombrero", size).text);
+        double projected_area = 0;
+        for (const auto& [a, b, c] : mesh.triangles) {
+            Point normal = cross(minus(mesh.vertices[b], mesh.vertices[a]), minus(mesh.vertices[c], mesh.vertices[a]));
+            ASSERT_GT(normal[1], 0) << size;
+            projected_area += normal[1] / 2;
+        }
+        EXPECT_NEAR(projected_area, 36, 1e-6) << size;
+    }
+}
+
 // FNV-1a, written out so that the recorded values below mean the same on every platform.
 std::uint64_t fnv1a(const std::string& text) {
     std::uint64_t hash = 0xcbf29ce484222325ULL;
@@ -192,6 +400,12 @@ TEST_F(GenerateTest, GeneratedFilesAreTheRecordedBytes) {
         {"field", 0x1c91f0708718db69ULL},
         {"lattice", 0x297d443de9126fe9ULL},
         {"csg", 0x8522c9de8f2ae505ULL},
+        // The mesh families: the sphere's, the torus's and the sombrero's vertices hold sine_cosine's bits.
+        {"sphere-mesh", 0xd113f2e41aba729cULL},
+        {"torus-mesh", 0x3e6ece61b6358ffdULL},
+        {"tetra", 0xa70ec72b63980dfaULL},
+        {"sombrero", 0x5506656a6874c8e9ULL},
+        {"triangle-soup", 0x2c327230d7695e39ULL},
     };
     for (const auto& [family, hash] : recorded) {
         EXPECT_EQ(fnv1a(generate(family, 300, 1).text), hash) << family;
@@ -199,11 +413,12 @@ TEST_F(GenerateTest, GeneratedFilesAreTheRecordedBytes) {
 }
 
 TEST_F(GenerateTest, DifferentSeedsGiveDifferentFields) {
-    for (const char* family : {"field", "csg"}) {
+    for (const char* family : {"field", "csg", "triangle-soup"}) {
         Generated one = generate(family, 400, 1);
         Generated two = generate(family, 400, 2);
         EXPECT_NE(one.text, two.text) << family;
         EXPECT_EQ(one.scene.primitives, two.scene.primitives) << family;
+        EXPECT_EQ(one.scene.triangles, two.scene.triangles) << family;
     }
 }
 
@@ -225,7 +440,7 @@ TEST_F(GenerateTest, NumbersAreWrittenOnTheGridInTheirShortestForm) {
 TEST_F(GenerateTest, GenerateRefusesUnknownFamilyWithExitCode) {
     CommandResult result = run_twinray("generate sphereflake -o " + path("s.json"));
     EXPECT_EQ(result.exit_status, twinray::cli::exit_usage) << result.output;
-    for (const std::string& family : families) {
+    for (const std::string& family : all_families()) {
         EXPECT_NE(result.output.find(family), std::string::npos) << "the message lists the families:\n"
                                                                  << result.output;
     }
@@ -273,17 +488,24 @@ TEST_F(GenerateTest, GenerateFailingPartWayKeepsTheOldFileAndLeavesNoTemporary) 
 
 // The largest size is streamed, never held: a million primitives (about 100 MB of text) in the
 // memory of a small one.
+// A mesh's lists too are streamed, not held whole.
 TEST_F(GenerateTest, GenerateWritesTheLargestSizeInLittleMemory) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
     GTEST_SKIP() << "a sanitizer's shadow memory is not the program's: the budget holds for uninstrumented builds";
 #endif
-    RunningTwinray generate_process(
-        {"generate", "csg", "--size", std::to_string(max_generated_primitives), "-o", path("s.json")});
-    CommandResult result = generate_process.wait();
-    ASSERT_EQ(result.exit_status, twinray::cli::exit_success) << result.output;
-    EXPECT_NE(result.output.find("wrote 1000000 primitives"), std::string::npos) << result.output;
-    EXPECT_GT(fs::file_size(path("s.json")), 50'000'000u);
-    EXPECT_LT(generate_process.peak_memory_bytes(), 32L << 20);
+    const std::vector<std::pair<std::string, std::string>> largest = {
+        {"csg", "wrote 1000000 primitives"},
+        {"sphere-mesh", "wrote 2 primitives (sphere-mesh, 998000 triangles"},
+    };
+    for (const auto& [family, report] : largest) {
+        RunningTwinray generate_process(
+            {"generate", family, "--size", std::to_string(max_generated_primitives), "-o", path("s.json")});
+        CommandResult result = generate_process.wait();
+        ASSERT_EQ(result.exit_status, twinray::cli::exit_success) << result.output;
+        EXPECT_NE(result.output.find(report), std::string::npos) << result.output;
+        EXPECT_GT(fs::file_size(path("s.json")), 50'000'000u) << family;
+        EXPECT_LT(generate_process.peak_memory_bytes(), 32L << 20) << family;
+    }
 }
 
 }  // namespace

@@ -35,6 +35,7 @@ struct Expected {
     V normal;
     int leaf;
     bool entering;
+    int triangle = -1;  // on a mesh, the triangle hit
 };
 
 enum class TracerKind { reference_double, reference_float, sse };
@@ -125,7 +126,9 @@ reference::Hit<double> widened(const FloatHit& hit) {
     wide.point = widen(hit.point);
     wide.normal = widen(hit.normal);
     wide.leaf = hit.leaf;
+    wide.triangle = hit.triangle;
     wide.entering = hit.entering;
+    wide.shading_normal = widen(hit.shading_normal);
     wide.spawn_offset = hit.spawn_offset;
     return wide;
 }
@@ -191,6 +194,7 @@ protected:
         EXPECT_NEAR(reference::length(hit->normal), 1.0, limit);
         EXPECT_LE(reference::dot(hit->normal, reference::normalize(direction)), 0.0) << "the normal must face the ray";
         EXPECT_EQ(hit->leaf, expected.leaf);
+        EXPECT_EQ(hit->triangle, expected.triangle);
         EXPECT_EQ(hit->entering, expected.entering);
         worst_error_ = std::max({worst_error_, std::fabs(hit->t - expected.t),
                                  reference::max_abs_component(hit->point - expected.point),

@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <ostream>
 #include <set>
@@ -128,7 +130,8 @@ const std::vector<Malformed> malformed_scenes = {
     // objects: a type, exactly its own keys, valid values.
     {"object_not_object.json", "objects[1]", "expected an object, got \"sphere\""},
     {"object_missing_type.json", "objects[0].type",
-     "missing required key \"type\"; allowed types: plane, sphere, cylinder, box, union, intersection, difference"},
+     "missing required key \"type\"; allowed types: plane, sphere, cylinder, box, union, intersection, difference, "
+     "mesh"},
     {"object_unknown_type.json", "objects[0].type", "unknown object type \"torus\"; allowed types: plane"},
     {"object_type_not_string.json", "objects[0].type", "expected a string, got 2"},
     {"sphere_unknown_key.json", "objects[0].radus",
@@ -162,6 +165,27 @@ const std::vector<Malformed> malformed_scenes = {
     {"material_name_unknown_nested.json", "objects[0].children[1].material", "unknown material \"chrome\""},
     {"material_name_without_materials.json", "objects[0].material", "the scene defines no materials"},
     {"material_name_not_string.json", "objects[0].material", "expected a string, got 1"},
+    // Meshes: indices of existing vertices, three a triangle, at least one triangle, one non-zero normal per
+    // vertex, never a CSG child.
+    {"mesh_index_out_of_range.json", "objects[1].triangles[0][2]",
+     "must be a vertex index, an integer from 0 to 2 (the mesh has 3 vertices), got 3"},
+    {"mesh_index_not_integer.json", "objects[1].triangles[0][1]", "must be a vertex index"},
+    {"mesh_index_negative.json", "objects[1].triangles[0][1]", "got -1"},
+    {"mesh_triangle_two_indices.json", "objects[1].triangles[0]", "expected 3 vertex indices, got 2"},
+    {"mesh_no_triangles.json", "objects[1].triangles", "a mesh needs at least one triangle, got none"},
+    {"mesh_missing_vertices.json", "objects[1].vertices",
+     "missing required key \"vertices\"; a mesh gives \"vertices\" and \"triangles\", or a \"file\""},
+    {"mesh_vertex_two_numbers.json", "objects[1].vertices[1]", "expected an array of 3 numbers"},
+    {"mesh_normals_count.json", "objects[1].normals", "expected one normal per vertex (3), got 1"},
+    {"mesh_normal_zero.json", "objects[1].normals[1]", "a normal must be non-zero"},
+    {"mesh_smooth_not_boolean.json", "objects[1].smooth", "expected true or false, got 1"},
+    {"mesh_unknown_key.json", "objects[1].faces",
+     "unknown key \"faces\"; allowed keys for a mesh: type, vertices, triangles, normals, file, smooth, material"},
+    {"mesh_as_csg_child.json", "objects[1].children[1]", "a mesh may not be a CSG child"},
+    // A mesh file, beside the scene file: readable, alone, well-formed (its own location kept in the problem).
+    {"mesh_file_missing.json", "objects[1].file", "no_such_model.obj"},
+    {"mesh_file_and_vertices.json", "objects[1].vertices", "a mesh gives either a \"file\" or its vertices"},
+    {"mesh_file_malformed.json", "objects[1].file", "out_of_range.obj: line"},
 };
 
 class MalformedScene : public ::testing::TestWithParam<Malformed> {};
@@ -439,6 +463,58 @@ TEST(SceneLoader, LeavesAreNumberedInDocumentOrderWithTheirPaths) {
     EXPECT_EQ(std::get<Csg>(intersection.shape).op, CsgOp::intersection);
 }
 
+// A mesh is one leaf in document order among the objects; its vertices, triangles and normals as written
+// (normals of unit length), degenerate triangles listed by index, smooth where it gives normals.
+TEST(SceneLoader, AMeshKeepsItsDataAndTakesItsPlaceInDocumentOrder) {
+    const Scene scene = parse_with_camera(R"("materials": { "red": {} }, "objects": [
+        { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+        { "type": "mesh", "material": "red", "vertices": [[0, 0, 0], [2, 0, 0], [0, 2, 0], [4, 0, 0]],
+          "triangles": [[0, 1, 2], [0, 1, 3], [2, 2, 1]], "normals": [[0, 0, 3], [0, 0, 1], [0, 0, 1], [0, 0, 1]] },
+        { "type": "box", "min": [0, 0, 0], "max": [1, 1, 1] } ])");
+    EXPECT_EQ(scene.leaf_paths, (std::vector<std::string>{"objects[0]", "objects[1]", "objects[2]"}));
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    const Mesh& mesh = scene.meshes[0];
+    EXPECT_EQ(mesh.leaf, 1);
+    EXPECT_EQ(mesh.material, 1);
+    EXPECT_EQ(scene.objects.at(1).leaf, 2);
+    EXPECT_EQ(mesh.data->vertices.at(3), (Vec3{4, 0, 0}));
+    EXPECT_EQ(mesh.data->triangles.at(1), (std::array<std::uint32_t, 3>{0, 1, 3}));
+    EXPECT_EQ(mesh.data->normals.at(0), (Vec3{0, 0, 1}));
+    EXPECT_TRUE(mesh.data->smooth);
+    EXPECT_EQ(mesh.data->degenerate, (std::vector<std::uint32_t>{1, 2})) << "collinear, then a repeated index";
+    EXPECT_EQ(scene.primitive_count(), 5u);
+}
+
+// A mesh file is read beside the scene file, its name kept; its triangles count as the inline ones do.
+TEST(SceneLoader, AMeshFileIsReadBesideTheSceneFile) {
+    const std::filesystem::path scene_file = source_dir / "tests" / "data" / "meshes" / "scene.json";
+    const Scene scene =
+        parse_scene("{ " + std::string(camera_block) + R"(, "objects": [ { "type": "mesh", "file": "cube.obj" } ] })",
+                    scene_file.string());
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    const MeshData& data = *scene.meshes[0].data;
+    EXPECT_EQ(data.file, "cube.obj");
+    EXPECT_EQ(data.triangles.size(), 12u) << "six quads, two triangles each";
+    EXPECT_EQ(data.vertices.size(), 8u);
+    EXPECT_EQ(scene.primitive_count(), 12u);
+    EXPECT_TRUE(data.degenerate.empty());
+}
+
+// smooth without normals: each vertex's the normalised sum of its triangles' (b − a) × (c − a).
+TEST(SceneLoader, ASmoothMeshWithoutNormalsGetsAreaWeightedVertexNormals) {
+    const Scene scene = parse_with_camera(R"("objects": [
+        { "type": "mesh", "smooth": true, "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]],
+          "triangles": [[0, 1, 2], [0, 3, 1]] } ])");
+    const MeshData& data = *scene.meshes.at(0).data;
+    EXPECT_TRUE(data.smooth);
+    // Vertex 0 and 1 sum (0, 0, 1) and (0, 1, 0); vertex 2 has only the first, vertex 3 only the second.
+    const double half = std::sqrt(0.5);
+    EXPECT_NEAR(data.normals.at(0).y, half, 1e-15);
+    EXPECT_NEAR(data.normals.at(0).z, half, 1e-15);
+    EXPECT_EQ(data.normals.at(2), (Vec3{0, 0, 1}));
+    EXPECT_EQ(data.normals.at(3), (Vec3{0, 1, 0}));
+}
+
 TEST(SceneLoader, ContractExampleLoads) {
     const Scene scene = parse(R"({
       "format": "twinray-scene/1",
@@ -590,6 +666,19 @@ TEST(SceneLimits, ThePrimitivePastTheLimitIsRefusedWithItsPathCountAndLimit) {
                                    std::to_string(max_scene_primitives) + ")")
         << error.what();
     EXPECT_EQ(refusal_with_limit(four_primitives(true), 3).location(), "objects[2]");
+}
+
+// A mesh's triangles count towards the limit, each as a primitive: the mesh that would pass it is refused
+// with its triangles array's path.
+TEST(SceneLimits, EachTriangleOfAMeshCountsAsAPrimitive) {
+    const std::string text = "{ " + std::string(camera_block) + R"(, "objects": [
+        { "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+        { "type": "mesh", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]],
+          "triangles": [[0, 1, 2], [1, 3, 2]] } ] })";
+    EXPECT_EQ(parse_scene(text, "limit.json", 3).primitive_count(), 3u);
+    const SceneError error = refusal_with_limit(text, 2);
+    EXPECT_EQ(error.location(), "objects[1].triangles") << error.what();
+    EXPECT_TRUE(error.problem().starts_with("its 2 triangles: more than the limit of 1 primitives")) << error.what();
 }
 
 // Elements kept in the tree (objects before materials) are counted as the text is read: the tree stops

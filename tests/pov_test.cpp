@@ -70,6 +70,14 @@ const Thresholds& thresholds_for(const std::string& scene) {
          {0.9995, 16, 2, 0.9995,
           "POV-Ray's 1e-3 shadow and 1e-4 hit tolerances where the floor meets the glass box and water "
           "cylinder and where shadow rays clip their corners"}},
+        // Measured 99.9818% (14 pixels over 2 levels, at most 38, max 2 levels off the ray tree's edges): the
+        // chrome torus reflects its own inner side at grazing angles, where its interpolated normals face
+        // away from the geometric ones. We turn such a normal to the geometric side (docs/scene-format.md,
+        // "Meshes"); POV-Ray does not, so its reflected ray leaves in another direction there.
+        {"meshes",
+         {0.9995, 48, 2, 0.9995,
+          "a smooth mesh's interpolated normals facing away from the geometric normal at grazing reflections: "
+          "turned to its side by us, not by POV-Ray"}},
     };
     for (const auto& [name, thresholds] : table) {
         if (name == scene) {

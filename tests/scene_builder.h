@@ -5,8 +5,11 @@
 
 #include "scene/scene.h"
 
+#include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <variant>
@@ -40,6 +43,23 @@ inline scene::Object csg(scene::CsgOp op, std::vector<scene::Object> children, i
     return {scene::Csg{op, std::move(children)}, material, -1};
 }
 
+// A mesh of the given vertices and triangles, flat unless normals are given.
+inline scene::Mesh mesh(std::vector<scene::Vec3> vertices, std::vector<std::array<std::uint32_t, 3>> triangles,
+                        int material = 0, std::vector<scene::Vec3> normals = {}) {
+    auto data = std::make_shared<scene::MeshData>();
+    data->vertices = std::move(vertices);
+    data->triangles = std::move(triangles);
+    data->smooth = !normals.empty();
+    data->normals = std::move(normals);
+    for (std::uint32_t i = 0; i < data->triangles.size(); ++i) {
+        const auto& t = data->triangles[i];
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+            data->degenerate.push_back(i);
+        }
+    }
+    return {std::move(data), material, -1};
+}
+
 class SceneBuilder {
 public:
     SceneBuilder() {
@@ -64,6 +84,13 @@ public:
         return *this;
     }
 
+    // A mesh in document order after the objects added so far.
+    SceneBuilder& add(scene::Mesh mesh) {
+        mesh_positions_.push_back(scene_.objects.size());
+        scene_.meshes.push_back(std::move(mesh));
+        return *this;
+    }
+
     // Everything else (camera, background, ambient_light, max_depth, size) is set directly.
     scene::Scene& scene() { return scene_; }
 
@@ -71,9 +98,20 @@ public:
         scene::Scene result = scene_;
         result.leaf_paths.clear();
         result.leaf_materials.clear();
+        std::size_t next_mesh = 0, element = 0;
+        auto number_meshes_before = [&](std::size_t object) {
+            for (; next_mesh < mesh_positions_.size() && mesh_positions_[next_mesh] == object; ++next_mesh) {
+                scene::Mesh& mesh = result.meshes[next_mesh];
+                mesh.leaf = static_cast<int>(result.leaf_paths.size());
+                result.leaf_paths.push_back("objects[" + std::to_string(element++) + "]");
+                result.leaf_materials.push_back(mesh.material);
+            }
+        };
         for (std::size_t i = 0; i < result.objects.size(); ++i) {
-            number(result.objects[i], "objects[" + std::to_string(i) + "]", 0, result);
+            number_meshes_before(i);
+            number(result.objects[i], "objects[" + std::to_string(element++) + "]", 0, result);
         }
+        number_meshes_before(result.objects.size());
         return result;
     }
 
@@ -93,6 +131,7 @@ private:
     }
 
     scene::Scene scene_;
+    std::vector<std::size_t> mesh_positions_;  // for each mesh, how many objects come before it
 };
 
 }  // namespace twinray::test

@@ -4,7 +4,9 @@
 #include "sse/tracer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <optional>
@@ -68,10 +70,34 @@ void collect_curvatures(const scene::Object& object, std::vector<Curvature>& by_
         object.shape);
 }
 
+// A smooth mesh shades with normals interpolated along its edges: they turn by the angle between two
+// vertex normals over the edge's length, so its radius is the least edge length over that angle. A flat
+// mesh's normal does not turn within a triangle.
+double shading_radius(const scene::MeshData& mesh) {
+    double radius = infinity;
+    if (!mesh.smooth) {
+        return radius;
+    }
+    for (const std::array<std::uint32_t, 3>& triangle : mesh.triangles) {
+        for (int i = 0; i < 3; ++i) {
+            std::uint32_t a = triangle[static_cast<std::size_t>(i)],
+                          b = triangle[static_cast<std::size_t>((i + 1) % 3)];
+            double turn = angle_between(mesh.normals[a], mesh.normals[b]);
+            if (turn > 0) {
+                radius = std::min(radius, reference::length(to_ref(mesh.vertices[b] - mesh.vertices[a])) / turn);
+            }
+        }
+    }
+    return radius;
+}
+
 std::vector<Curvature> curvatures(const scene::Scene& scene) {
     std::vector<Curvature> by_leaf(scene.leaf_paths.size());
     for (const scene::Object& object : scene.objects) {
         collect_curvatures(object, by_leaf);
+    }
+    for (const scene::Mesh& mesh : scene.meshes) {
+        by_leaf[static_cast<std::size_t>(mesh.leaf)].radius = shading_radius(*mesh.data);
     }
     return by_leaf;
 }

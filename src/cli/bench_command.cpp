@@ -210,10 +210,22 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
                              "povray/sse 1T",
                              "povray/sse " + std::to_string(all_threads) + "T",
                              "(povray - 1x1)/sse 1T"};
-    report.first_hit.title = "First hits of primary rays only, one thread (Mrays/s, CPU time of the casts), " + setting;
-    report.first_hit.headers = {
-        "scene",       "rays",        "sse exact",        "sse fast", "embree rtcIntersect1", "embree rtcIntersect4",
-        "sse/embree1", "sse/embree4", "hits sse - embree"};
+    report.first_hit.title =
+        "First hits of primary rays only, one thread (Mrays/s, CPU time of the casts; Embree robust: "
+        "RTC_SCENE_FLAG_ROBUST, on meshes), " +
+        setting;
+    report.first_hit.headers = {"scene",
+                                "rays",
+                                "sse exact",
+                                "sse fast",
+                                "embree rtcIntersect1",
+                                "embree rtcIntersect4",
+                                "sse/embree1",
+                                "sse/embree4",
+                                "hits sse - embree",
+                                "embree robust rtcIntersect1",
+                                "sse/embree robust1",
+                                "hits sse - embree robust"};
     report.depth.title =
         "Adaptive depth control on scenes with mirrors or glass: the proven cutoff against none "
         "(min_weight 0), one thread, " +
@@ -239,7 +251,8 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
                               "rays per pixel"};
     report.scaling_peers.title =
         "Scaling against peers: first hits of primary rays (ns/ray, sse --accel " + accel_name(arguments.accel) +
-        "; Embree on the widest kernels this CPU runs and on its SSE4.2 ones) and whole renders (s, sse bvh) "
+        "; Embree on the widest kernels this CPU runs and on its SSE4.2 ones, on meshes also with "
+        "RTC_SCENE_FLAG_ROBUST) and whole renders (s, sse bvh) "
         "against POV-Ray 3.7 +WT1 without its start-up "
         "(its trace, as its statistics give it); CPU time of one thread, " +
         scaling_setting;
@@ -251,6 +264,10 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
                                     "embree/sse",
                                     "embree sse4.2 ns/ray",
                                     "embree sse4.2/sse",
+                                    "embree robust ns/ray",
+                                    "embree robust/sse",
+                                    "embree robust sse4.2 ns/ray",
+                                    "embree robust sse4.2/sse",
                                     "image",
                                     "povray +WT1 s (process)",
                                     "povray parse + bounding s",
@@ -412,7 +429,8 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::Range(1, 1024));
     command->add_flag("--scaling", arguments->scaling,
                       "Also time scenes of 10 to 1000000 primitives (a sphere field, the sphereflake, a lattice of "
-                      "cylinders): both tracers with and without their BVH, Embree, POV-Ray, the BVH's build, threads");
+                      "cylinders, a sphere mesh, the SPD tetra): both tracers with and without their BVH, Embree, "
+                      "POV-Ray, the BVH's build, threads");
     command->add_flag("--scaling-only", arguments->scaling_only, "The scaling tables alone: no scene is rendered")
         ->excludes(scenes);
     command

@@ -89,7 +89,8 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
 // First hits of primary rays only: the SSE tracer (exact and --precision fast) against Embree 3.
 void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Accel accel,
                       Report& report);
-// Scenes of 10 to arguments.scaling_max primitives (a sphere field, the sphereflake, a lattice of cylinders):
+// Scenes of 10 to arguments.scaling_max primitives (a sphere field, the sphereflake, a lattice of cylinders, a
+// sphere mesh and the SPD tetra, of as many triangles):
 // both tracers with and without their BVH, first hits against Embree, whole renders against POV-Ray (when
 // `povray` is given), the BVH's build, and one thread against all (bench_scaling.cpp).
 void bench_scaling(const BenchArguments& arguments, int all_threads, const std::optional<std::filesystem::path>& povray,

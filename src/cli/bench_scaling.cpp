@@ -41,12 +41,37 @@ scene::Scene generated(const char* family, int size) {
 }
 
 // Spheres alone (Embree's native primitive, for the first-hit target); the sphereflake, reflective; a lattice
-// of cylinders joined by spheres (cylinders for the POV-Ray target).
+// of cylinders joined by spheres (cylinders for the POV-Ray target); a tessellated sphere, one closed mesh of
+// shared vertices, and the SPD tetra, 4^d closed shells (the largest 4^(d+1) triangles not above the size asked
+// for: 262 144 for a million).
 const Family families[] = {
     {"spheres", [](int size) { return scene::sphere_field(size); }},
     {"fractal", [](int size) { return generated("fractal", size); }},
     {"lattice", [](int size) { return generated("lattice", size); }},
+    {"sphere-mesh", [](int size) { return generated("sphere-mesh", size); }},
+    {"tetra", [](int size) { return generated("tetra", size); }},
 };
+
+#if TWINRAY_WITH_EMBREE
+// Embree as the first-hit table times it: its widest kernels (the target's peer, and its build) and its SSE4.2
+// ones, as narrow as ours; on meshes each in robust mode too, Embree's answer to rays slipping through the edges
+// triangles share, which our watertight test rules out.
+struct EmbreeVariant {
+    peers::EmbreeIsa isa;
+    peers::EmbreeMode mode;
+};
+constexpr EmbreeVariant embree_variants[] = {
+    {peers::EmbreeIsa::widest, peers::EmbreeMode::standard},
+    {peers::EmbreeIsa::sse42, peers::EmbreeMode::standard},
+    {peers::EmbreeIsa::widest, peers::EmbreeMode::robust},
+    {peers::EmbreeIsa::sse42, peers::EmbreeMode::robust},
+};
+#endif
+
+// The first-hit table's Embree cells, ns/ray and the ratio to ours per variant, when none is timed.
+std::vector<std::string> embree_left_out(const std::string& why) {
+    return {why, "", "", "", "", "", "", ""};
+}
 
 struct ScaledConfiguration {
     Configuration configuration;
@@ -175,9 +200,8 @@ struct SizeRun {
         report.scaling.add_row(row);
     }
 
-    // First hits of the SSE tracer (--accel as given) and Embree's rtcIntersect1 (its widest kernels and its
-    // SSE4.2 ones) on the same primary rays, both BVHs' builds, and POV-Ray's trace against the SSE BVH's
-    // render, at the SSE BVH's width.
+    // First hits of the SSE tracer (--accel as given) and Embree's rtcIntersect1 (embree_variants) on the same
+    // primary rays, both BVHs' builds, and POV-Ray's trace against the SSE BVH's render, at the SSE BVH's width.
     void peers(const Timings& sse_bvh, int sse_width) const {
         progress(" first-hits, builds");
         RenderOptions options;
@@ -186,7 +210,10 @@ struct SizeRun {
         options.accel = arguments.accel;
         // Each run times every side in turn, ours and Embree's: this VM's speed drifts by a third over seconds,
         // and a ratio of two sides timed far apart would carry that drift.
-        std::vector<double> sse_cpu, sse_build_cpu, embree_cpu, narrow_cpu, embree_build_cpu;
+        std::vector<double> sse_cpu, sse_build_cpu, embree_build_cpu;
+#if TWINRAY_WITH_EMBREE
+        std::vector<std::vector<double>> embree_cpu(std::size(embree_variants));  // per variant; empty: not timed
+#endif
         sse::FirstHits hits;
         sse::BvhStats stats;
         for (int run = 0; run < arguments.runs; ++run) {
@@ -195,33 +222,41 @@ struct SizeRun {
             stats = sse::Tracer(scene, {}, Accel::bvh).bvh_stats();
             sse_build_cpu.push_back(stats.build_cpu_seconds);
 #if TWINRAY_WITH_EMBREE
-            if (arguments.peers) {
-                // Its widest kernels (the target's peer, and its build), and its SSE4.2 ones, as narrow as ours.
-                peers::EmbreePeer peer(scene, arguments.width);
-                embree_build_cpu.push_back(peer.build_seconds());
-                embree_cpu.push_back(peer.cast_single().seconds);
-                narrow_cpu.push_back(
-                    peers::EmbreePeer(scene, arguments.width, peers::EmbreeIsa::sse42).cast_single().seconds);
+            for (std::size_t i = 0; arguments.peers && i < std::size(embree_variants); ++i) {
+                const auto [isa, mode] = embree_variants[i];
+                if (mode == peers::EmbreeMode::robust && !scene.has_meshes()) {
+                    continue;
+                }
+                peers::EmbreePeer peer(scene, arguments.width, isa, mode);
+                if (i == 0) {
+                    embree_build_cpu.push_back(peer.build_seconds());
+                }
+                embree_cpu[i].push_back(peer.cast_single().seconds);
             }
 #endif
         }
         double sse_ns = median_ns_per_ray(sse_cpu, hits.rays);
         std::vector<std::string> row = {family, std::to_string(primitives), std::to_string(hits.rays),
                                         cell("%.1f", sse_ns)};
-        std::vector<std::string> embree = {"left out (--no-peers)", "", "", ""};
+        std::vector<std::string> embree = embree_left_out("left out (--no-peers)");
         std::vector<std::string> build = {"", ""};
 #if TWINRAY_WITH_EMBREE
         if (arguments.peers) {
-            double embree_ns = median_ns_per_ray(embree_cpu, hits.rays);
-            double narrow_ns = median_ns_per_ray(narrow_cpu, hits.rays);
-            embree = {cell("%.1f", embree_ns), cell("%.2f", embree_ns / sse_ns), cell("%.1f", narrow_ns),
-                      cell("%.2f", narrow_ns / sse_ns)};
+            embree.clear();
+            for (const std::vector<double>& seconds : embree_cpu) {
+                if (seconds.empty()) {
+                    embree.insert(embree.end(), {"no meshes", ""});
+                    continue;
+                }
+                double ns = median_ns_per_ray(seconds, hits.rays);
+                embree.insert(embree.end(), {cell("%.1f", ns), cell("%.2f", ns / sse_ns)});
+            }
             double build_seconds = median(embree_build_cpu);
             build = {cell("%.1f", build_seconds * 1e3),
                      cell("%.2f", static_cast<double>(primitives) / build_seconds / 1e6)};
         }
 #else
-        embree = {"not built", "", "", ""};
+        embree = embree_left_out("not built");
         build = {"not built", ""};
 #endif
         row.insert(row.end(), embree.begin(), embree.end());
@@ -283,7 +318,7 @@ void bench_scaling(const BenchArguments& arguments, int all_threads, const std::
         for (int size = 10; size <= arguments.scaling_max; size *= 10) {
             progress(std::string("scaling: ") + family.name + " " + std::to_string(size) + ":");
             scene::Scene scene = family.make(size);
-            const auto primitives = static_cast<std::int64_t>(scene.leaf_paths.size());
+            const auto primitives = static_cast<std::int64_t>(scene.primitive_count());  // a mesh's triangles each
             progress(" " + std::to_string(primitives) + " primitives;");
             SizeRun run{arguments, povray, report, family.name, scene, primitives};
             Timings sse_bvh;

@@ -11,6 +11,7 @@ enum ExitCode : int {
     exit_unreadable_image = 4,  // compare/diff: an input image cannot be read, or two images differ in size
     exit_internal_error = 70,   // a bug: an unexpected exception (please report it)
     exit_cpu_unsupported = 5,   // the chosen tracer needs a CPU feature this machine lacks (SSE4.1)
+    exit_not_watertight = 6,    // watertight: some tracer missed or double-hit a ray at a shared edge or vertex
     exit_interrupted = 130,  // render: stopped by Ctrl-C (SIGINT) before writing; 128 + SIGINT, as a shell reports it
 };
 

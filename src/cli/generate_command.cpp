@@ -78,13 +78,23 @@ void add_generate_command(CLI::App& app, std::function<int()>& run) {
         "           most one; the count nearest --size\n"
         "  csg      an array of CSG objects (differences, intersections, unions) on a floor; exactly --size\n"
         "           (3 for a size of 2)\n"
-        "Counts include the floor plane; ties go to the smaller scene.");
-    command->add_option("family", arguments->family, "fractal, field, lattice or csg")
+        "Counts include the floor plane; ties go to the smaller scene. Mesh families write one triangle mesh\n"
+        "on a floor, --size counting its triangles:\n"
+        "  sphere-mesh    a UV sphere, b bands and 2b slices, closed, smooth; the 4b(b - 1) nearest --size\n"
+        "  torus-mesh     a tilted torus, 3n x n segments, closed, smooth; the 6n^2 nearest --size\n"
+        "  tetra          the Sierpinski tetrahedron of depth d (SPD \"tetra\"), 4^d closed tetrahedra; the\n"
+        "                 largest 4 x 4^d not above --size (4 below that)\n"
+        "  sombrero       the height field sin(r)/r over n x n quads, open, smooth; the 2n^2 nearest --size\n"
+        "  triangle-soup  random triangles in a cube; exactly --size");
+    command
+        ->add_option("family", arguments->family,
+                     "fractal, field, lattice, csg, sphere-mesh, torus-mesh, tetra, sombrero or triangle-soup")
         ->required()
         ->check(CLI::IsMember(generated_family_names()));
     command
         ->add_option("--size", arguments->size,
-                     "Target number of primitives (leaves), 1.." + std::to_string(max_generated_primitives))
+                     "Target number of primitives (leaves), of triangles for a mesh family, 1.." +
+                         std::to_string(max_generated_primitives))
         ->check(CLI::Range(1, max_generated_primitives))
         ->capture_default_str();
     command->add_option("--seed", arguments->seed, "Seed of the family's random choices, 0..2^64-1")

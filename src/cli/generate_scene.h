@@ -1,9 +1,10 @@
 // The scene families of `twinray generate`: large scenes as users have them, for the work on scaling
 // (docs/performance.md "Generated scenes"). Each is written as streamed text, never held whole, and is
-// the same file, byte for byte, for the same family, size and seed on any machine.
+// the same file, byte for byte, for the same family, size and seed on any machine. Each family is a file
+// of generate/ (generate/families.h); what they share is in generate/scene_parts.h and mesh_parts.h.
 #pragma once
 
-#include "cli/scene_text_writer.h"
+#include "cli/generate/scene_text_writer.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -13,16 +14,20 @@
 
 namespace twinray::cli {
 
+// Of primitives, or of triangles for a mesh family.
 constexpr int max_generated_primitives = 1'000'000;
-// Every scene the generator writes can be read (the loader's limit, docs/scene-format.md).
+// Every scene the generator writes can be read (the loader's limit, docs/scene-format.md, which counts a
+// mesh's triangles: a mesh family writes at most this many and a floor).
 static_assert(static_cast<std::size_t>(max_generated_primitives) <= scene::max_scene_primitives);
 constexpr int default_generated_primitives = 1000;
 
-// fractal, field, lattice, csg: the order in which help and messages list them.
+// fractal, field, lattice, csg, sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup: the order in which
+// help and messages list them.
 const std::vector<std::string>& generated_family_names();
 
 struct GeneratedScene {
-    std::int64_t primitives = 0;  // leaves written, the floor plane included
+    std::int64_t primitives = 0;  // leaves written, the floor plane included; a mesh is one
+    std::int64_t triangles = 0;   // of the meshes
     std::string structure;        // how the family met the size, e.g. "depth 3" or "8 x 7 x 7 nodes"
 };
 
@@ -33,7 +38,16 @@ struct GeneratedScene {
 // - lattice: the a × b × c nodes, sides differing by at most one, whose count (floor + abc spheres +
 //   3abc − ab − bc − ca cylinders) is nearest `size`;
 // - csg: exactly `size` (the floor and CSG objects of 2 to 5 primitives), except 3 for a size of 2.
-// Ties go to the smaller scene. Throws std::invalid_argument for an unknown family or a size outside
+// The mesh families write the floor and one mesh (`{"type": "mesh", "vertices", "triangles"}`, and
+// `"normals"` and `"smooth": true` for a curved one), `size` counting its triangles:
+// - sphere-mesh: a UV sphere of b bands from pole to pole and 2b slices, the poles fans, shared vertices:
+//   the 4b(b − 1) triangles (b >= 2) nearest `size`;
+// - torus-mesh: 3n segments around the ring, n around the tube, shared vertices: the 6n² (n >= 3) nearest;
+// - tetra: the Sierpinski tetrahedron of depth d, 4^d tetrahedra each its own closed shell: the largest
+//   4·4^d triangles not above `size`, or 4 (d = 0) below that;
+// - sombrero: the height field sin(r)/r over n × n quads, an open surface: the 2n² nearest;
+// - triangle-soup: exactly `size` random triangles, three vertices each.
+// The closed meshes are counter-clockwise seen from outside. Ties go to the smaller scene. Throws std::invalid_argument for an unknown family or a size outside
 // 1..max_generated_primitives.
 GeneratedScene generate_scene(std::string_view family, int size, std::uint64_t seed, const TextSink& sink);
 

@@ -9,6 +9,7 @@
 #include "cli/pov_command.h"
 #include "cli/probe_command.h"
 #include "cli/render_command.h"
+#include "cli/watertight_command.h"
 
 #include <CLI/CLI.hpp>
 
@@ -21,7 +22,9 @@ int main(int argc, char** argv) {
     CLI::App app{
         "twinray: a double-precision reference ray tracer and a fast SSE4.1 tracer, held against each other.\n"
         "Exit status: 0 success, 1 usage error, 2 invalid scene, 3 output not writable, 4 unreadable or\n"
-        "mismatched input image, 5 the CPU lacks SSE4.1 (use --tracer reference), 70 internal error.\n"
+        "mismatched input image, 5 the CPU lacks SSE4.1 (use --tracer reference), 6 watertight: a leak or a double "
+        "hit,\n"
+        "70 internal error.\n"
         "compare and diff: 0 pass, 1 warn, 2 fail (see their --help)."};
     app.require_subcommand(1);
     std::function<int()> run;
@@ -34,6 +37,7 @@ int main(int argc, char** argv) {
     add_probe_command(app, run);
     add_numerics_command(app, run);
     add_generate_command(app, run);
+    add_watertight_command(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -90,6 +90,14 @@ int run_numerics(const NumericsArguments& arguments) {
             std::cerr << "twinray numerics: invalid scene: " << error.what() << "\n";
             return exit_invalid_scene;
         }
+        // Its exact geometry (numerics/exact_geometry.cpp) is written per primitive type; meshes have none yet.
+        if (scenes.back().second.has_meshes()) {
+            std::cerr
+                << "twinray numerics: " << path
+                << ": meshes are not measured yet (the exact geometry of the scale table and the footprint covers "
+                   "planes, spheres, cylinders and boxes); `twinray watertight` measures meshes\n";
+            return exit_invalid_scene;
+        }
     }
     const scene::Scene& first = scenes.front().second;
     std::string table =

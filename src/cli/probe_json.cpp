@@ -14,13 +14,17 @@ Json first_hit_json(const scene::Scene& scene, const RayTree& tree) {
         return Json{{"hit", false}};
     }
     const RayNode& node = tree.nodes.front();
-    return Json{{"hit", true},
-                {"t", node.t},
-                {"point", to_json(node.point)},
-                {"normal", to_json(node.normal)},
-                {"object", object_name(scene, node.leaf)},
-                {"material", material_name(scene, node.leaf)},
-                {"entering", node.entering}};
+    Json json{{"hit", true},
+              {"t", node.t},
+              {"point", to_json(node.point)},
+              {"normal", to_json(node.normal)},
+              {"object", object_name(scene, node.leaf)},
+              {"material", material_name(scene, node.leaf)},
+              {"entering", node.entering}};
+    if (node.triangle >= 0) {
+        json["triangle"] = node.triangle;
+    }
+    return json;
 }
 
 Json light_json(const LightVisibility& light, std::size_t index) {
@@ -42,6 +46,9 @@ Json node_json(const scene::Scene& scene, const RayTree& tree, int index) {
               {"hit", node.hit}};
     if (node.hit) {
         json["object"] = object_name(scene, node.leaf);
+        if (node.triangle >= 0) {
+            json["triangle"] = node.triangle;
+        }
         json["material"] = material_name(scene, node.leaf);
         json["t"] = node.t;
         json["point"] = to_json(node.point);

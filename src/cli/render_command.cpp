@@ -6,6 +6,7 @@
 #include "io/atomic_file.h"
 #include "scene/depth_control.h"
 #include "scene/loader.h"
+#include "scene/mesh_file.h"
 
 #include <unistd.h>
 #include <atomic>
@@ -116,6 +117,32 @@ void print_depth_control(const scene::Scene& scene, const std::string& scene_pat
         result.image.height());
 }
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Each mesh's triangles, those with no area that no tracer ever hits, and its topology (glass needs a closed
+// mesh: a ray must leave what it entered); then what the loader read and does not use.
+void print_meshes(const scene::Scene& scene) {
+    for (const scene::Mesh& mesh : scene.meshes) {
+        const scene::MeshData& data = *mesh.data;
+        const scene::MeshTopology topology = scene::topology_of(data);
+        std::printf("mesh:        %s%s: %zu triangles, %zu vertices, %zu degenerate (never hit)%s; %s",
+                    scene.leaf_paths[static_cast<std::size_t>(mesh.leaf)].c_str(),
+                    data.file.empty() ? "" : (" (" + data.file + ")").c_str(), data.triangles.size(),
+                    data.vertices.size(), data.degenerate.size(), data.smooth ? ", smooth" : "",
+                    topology.closed() ? "closed" : "open");
+        if (!topology.closed()) {
+            std::printf(" (%zu boundary, %zu non-manifold, %zu inconsistently wound edges)", topology.boundary_edges,
+                        topology.non_manifold_edges, topology.inconsistently_wound_edges);
+        }
+        std::printf("\n");
+    }
+    for (const std::string& warning : scene.warnings) {
+        std::fprintf(stderr, "twinray render: warning: %s\n", warning.c_str());
+    }
+}
+
 int run_render(const RenderArguments& arguments) {
     InterruptCatcher catch_ctrl_c;
     fs::path output = arguments.output_path.empty() ? fs::path(fs::path(arguments.scene_path).stem().string() + ".png")
@@ -133,12 +160,14 @@ int run_render(const RenderArguments& arguments) {
         return exit_usage;
     }
     scene::Scene scene;
+    const auto load_start = std::chrono::steady_clock::now();
     try {
         scene = scene::load_scene(arguments.scene_path, arguments.max_primitives);
     } catch (const scene::SceneError& error) {
         std::cerr << "twinray render: invalid scene: " << error.what() << "\n";
         return exit_invalid_scene;
     }
+    const double load_seconds = seconds_since(load_start);
     scene::ImageSize size{};
     try {
         size = scene::resolve_image_size(scene, arguments.width, arguments.height);
@@ -177,15 +206,17 @@ int run_render(const RenderArguments& arguments) {
         std::cerr << "twinray render: interrupted; " << output.string() << " was not written\n";
         return exit_interrupted;
     }
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double render_seconds = seconds_since(start);
     clear_progress();
     const RenderResult& result = *rendered;
+    const auto write_start = std::chrono::steady_clock::now();
     try {
         write_image(result.image, output);
     } catch (const ImageFileError& error) {
         std::cerr << "twinray render: " << error.what() << "\n";
         return exit_output_error;
     }
+    const double write_seconds = seconds_since(write_start);
     std::printf("scene:       %s\n", arguments.scene_path.c_str());
     std::printf("tracer:      %s (%d thread%s)\n", arguments.tracer.c_str(), options.threads,
                 options.threads == 1 ? "" : "s");
@@ -196,8 +227,15 @@ int run_render(const RenderArguments& arguments) {
     std::printf("resolution:  %d x %d\n", result.image.width(), result.image.height());
     std::printf("rays traced: %llu\n", static_cast<unsigned long long>(result.tally.rays));
     print_depth_control(scene, arguments.scene_path, result);
-    std::printf("wall time:   %.3f s\n", seconds);
-    std::printf("speed:       %.2f Mrays/s\n", static_cast<double>(result.tally.rays) / seconds / 1e6);
+    print_meshes(scene);
+    // As POV-Ray's statistics: loading, building (compiling the scene and its BVH) and writing apart from
+    // tracing, since a large mesh takes longer to load and build than to trace; the speed is the trace's.
+    std::printf("load time:   %.3f s\n", load_seconds);
+    std::printf("build time:  %.3f s\n", render_seconds - result.tracing_seconds);
+    std::printf("trace time:  %.3f s\n", result.tracing_seconds);
+    std::printf("write time:  %.3f s\n", write_seconds);
+    std::printf("wall time:   %.3f s\n", seconds_since(load_start));
+    std::printf("speed:       %.2f Mrays/s\n", static_cast<double>(result.tally.rays) / result.tracing_seconds / 1e6);
     std::printf("wrote:       %s\n", output.string().c_str());
     return exit_success;
 }

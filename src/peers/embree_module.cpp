@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <ctime>
 #include <limits>
 #include <stdexcept>
@@ -151,6 +152,48 @@ void add_to_peer(const Unsupported&, int, std::vector<float>&, Quads&, UserGeome
     throw std::runtime_error("Embree peer: scenes with CSG are not supported");
 }
 
+// The scene takes its own reference to the committed geometry.
+void attach(RTCScene scene, RTCGeometry geometry) {
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);
+}
+
+// A mesh as Embree's native triangles, its vertices the scene's in float as the spheres' (no re-basing), its
+// degenerate triangles left out: one collinear in double may round to a float sliver that Embree would hit
+// where neither tracer ever does, and the SSE tracer leaves them out of its triangle list too, so both build
+// over the same triangles. The buffers are Embree's (padded as it reads them), so none of ours need outlive it.
+void add_mesh(RTCDevice device, RTCScene scene, const scene::MeshData& mesh) {
+    const std::size_t hittable = mesh.triangles.size() - mesh.degenerate.size();
+    if (hittable == 0) {
+        return;
+    }
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertex = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                               3 * sizeof(float), mesh.vertices.size()));
+    auto* index = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), hittable));
+    if (vertex == nullptr || index == nullptr) {
+        rtcReleaseGeometry(geometry);
+        throw std::runtime_error("Embree: a mesh's buffers could not be allocated (error " +
+                                 std::to_string(rtcGetDeviceError(device)) + ")");
+    }
+    for (const scene::Vec3& v : mesh.vertices) {
+        for (int axis = 0; axis < 3; ++axis) {
+            *vertex++ = static_cast<float>(v[axis]);
+        }
+    }
+    auto next_degenerate = mesh.degenerate.begin();  // ascending, as the triangles are walked
+    for (std::uint32_t triangle = 0; triangle < mesh.triangles.size(); ++triangle) {
+        if (next_degenerate != mesh.degenerate.end() && *next_degenerate == triangle) {
+            ++next_degenerate;
+            continue;
+        }
+        index = std::copy(mesh.triangles[triangle].begin(), mesh.triangles[triangle].end(), index);
+    }
+    attach(scene, geometry);
+}
+
 // CPU time (user + system) of the process: the casts and the build run on the calling thread alone, and on a
 // busy machine this does not count waiting for a core (the SSE tracer's side is timed the same way).
 double cpu_seconds() {
@@ -183,7 +226,8 @@ struct State {
     }
 };
 
-void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, int height, EmbreeIsa isa) {
+void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, int height, EmbreeIsa isa,
+             EmbreeMode mode) {
     auto state = std::make_unique<State>();
     State& s = *state;
     // One thread, as the SSE tracer builds its BVH: build times compare like with like.
@@ -194,6 +238,7 @@ void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, i
     }
     const double build_start = cpu_seconds();
     s.scene = rtcNewScene(s.device);
+    rtcSetSceneFlags(s.scene, mode == EmbreeMode::robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
     for (const scene::Object& object : scene.objects) {
         std::visit([&](const auto& shape) { add_to_peer(shape, object.leaf, s.spheres, s.quads, s.user); },
                    object.shape);
@@ -202,9 +247,7 @@ void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, i
         RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
         rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, s.spheres.data(), 0,
                                    4 * sizeof(float), s.spheres.size() / 4);
-        rtcCommitGeometry(geometry);
-        rtcAttachGeometry(s.scene, geometry);
-        rtcReleaseGeometry(geometry);
+        attach(s.scene, geometry);
     }
     if (!s.quads.indices.empty()) {
         s.quads.vertices.push_back(0.0f);  // the padding
@@ -213,9 +256,7 @@ void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, i
                                    3 * sizeof(float), (s.quads.vertices.size() - 1) / 3);
         rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, s.quads.indices.data(), 0,
                                    4 * sizeof(unsigned), s.quads.indices.size() / 4);
-        rtcCommitGeometry(geometry);
-        rtcAttachGeometry(s.scene, geometry);
-        rtcReleaseGeometry(geometry);
+        attach(s.scene, geometry);
     }
     if (!s.user.shapes.empty()) {
         for (const Shape& shape : s.user.shapes) {
@@ -226,9 +267,10 @@ void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, i
         rtcSetGeometryUserData(geometry, &s.user);
         rtcSetGeometryBoundsFunction(geometry, user_bounds, nullptr);
         rtcSetGeometryIntersectFunction(geometry, user_intersect);
-        rtcCommitGeometry(geometry);
-        rtcAttachGeometry(s.scene, geometry);
-        rtcReleaseGeometry(geometry);
+        attach(s.scene, geometry);
+    }
+    for (const scene::Mesh& mesh : scene.meshes) {
+        add_mesh(s.device, s.scene, *mesh.data);
     }
     rtcCommitScene(s.scene);
     s.build_seconds = cpu_seconds() - build_start;

@@ -12,10 +12,11 @@
 namespace twinray::peers {
 
 // What the module offers, returned by its one exported symbol, twinray_embree_functions. `create`
-// builds Embree's scene of `scene` (no CSG) on kernels of instruction set `isa` and keeps the primary rays
-// of a width x height image, row by row; it throws std::runtime_error if Embree fails.
+// builds Embree's scene of `scene` (no CSG) in `mode` on kernels of instruction set `isa` and keeps the
+// primary rays of a width x height image, row by row; it throws std::runtime_error if Embree fails.
 struct EmbreeFunctions {
-    void* (*create)(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, int height, EmbreeIsa isa);
+    void* (*create)(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, int height, EmbreeIsa isa,
+                    EmbreeMode mode);
     void (*destroy)(void* state);
     FirstHitRun (*cast_single)(const void* state);
     FirstHitRun (*cast_packets)(const void* state);

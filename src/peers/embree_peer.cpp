@@ -35,7 +35,7 @@ struct EmbreePeer::State {
     void* embree;
 };
 
-EmbreePeer::EmbreePeer(const scene::Scene& scene, int width, EmbreeIsa isa) {
+EmbreePeer::EmbreePeer(const scene::Scene& scene, int width, EmbreeIsa isa, EmbreeMode mode) {
     const scene::ImageSize size = scene::resolve_image_size(scene, width, 0);
     const sse::Tracer camera(scene, {}, Accel::none);  // for its camera only: no BVH to build
     std::vector<sse::Ray> rays;
@@ -46,7 +46,7 @@ EmbreePeer::EmbreePeer(const scene::Scene& scene, int width, EmbreeIsa isa) {
         }
     }
     const EmbreeFunctions& module = module_functions();
-    state_ = std::make_unique<State>(module, module.create(scene, std::move(rays), size.width, size.height, isa));
+    state_ = std::make_unique<State>(module, module.create(scene, std::move(rays), size.width, size.height, isa, mode));
 }
 
 EmbreePeer::~EmbreePeer() = default;

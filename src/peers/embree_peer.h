@@ -1,8 +1,9 @@
 // Embree 3 as a first-hit peer for `twinray bench` (built only when Embree is installed), each of our
 // primitives in Embree's fastest form: spheres as its native point spheres, boxes as six native quads,
 // planes as one large quad, cylinders (Embree has no capped cylinder) as user geometry whose callback
-// runs the reference tracer's formula in float; and the same primary rays as the SSE tracer
-// (its camera, in float) cast one by one (rtcIntersect1) or as 2 × 2 packets (rtcIntersect4).
+// runs the reference tracer's formula in float, each mesh as its native triangles; and the same primary
+// rays as the SSE tracer (its camera, in float) cast one by one (rtcIntersect1) or as 2 × 2 packets
+// (rtcIntersect4).
 #pragma once
 
 #include "scene/scene.h"
@@ -27,11 +28,17 @@ struct FirstHitRun {
 // adds string and CRC instructions, nothing a traversal uses).
 enum class EmbreeIsa { widest, sse42 };
 
+// How Embree builds its scene: its default, or with RTC_SCENE_FLAG_ROBUST, which its documentation gives as
+// robust traversal and no optimisation that costs accuracy, against rays slipping through the edge two
+// triangles share: what the SSE tracer's watertight triangle test rules out, so meshes are timed both ways.
+enum class EmbreeMode { standard, robust };
+
 class EmbreePeer {
 public:
     // The scene at `width` (height by its aspect), on an Embree device of one thread running `isa`'s
-    // kernels. Throws std::runtime_error if Embree fails.
-    EmbreePeer(const scene::Scene& scene, int width, EmbreeIsa isa = EmbreeIsa::widest);
+    // kernels, built in `mode`. Throws std::runtime_error if Embree fails.
+    EmbreePeer(const scene::Scene& scene, int width, EmbreeIsa isa = EmbreeIsa::widest,
+               EmbreeMode mode = EmbreeMode::standard);
     ~EmbreePeer();
     EmbreePeer(const EmbreePeer&) = delete;
     EmbreePeer& operator=(const EmbreePeer&) = delete;

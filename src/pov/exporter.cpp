@@ -3,6 +3,8 @@
 #include "scene/depth_control.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -132,6 +134,9 @@ public:
         for (const scene::Object& object : scene_.objects) {
             top_level(object);
         }
+        for (const scene::Mesh& mesh : scene_.meshes) {
+            write_mesh(mesh);
+        }
         return text_;
     }
 
@@ -155,6 +160,9 @@ private:
         for (const scene::Object& object : scene_.objects) {
             for_each_leaf(object,
                           [&](const scene::Object& leaf) { used.at(static_cast<std::size_t>(leaf.material)) = true; });
+        }
+        for (const scene::Mesh& mesh : scene_.meshes) {
+            used.at(static_cast<std::size_t>(mesh.material)) = true;
         }
         for (std::size_t i = 0; i < materials_.size() && !object_ids_; ++i) {
             if (used[i] && !materials_[i].residual.empty()) {
@@ -269,7 +277,7 @@ private:
                     line(indent, "// " + scene_.leaf_paths.at(static_cast<std::size_t>(object.leaf)));
                     line(indent, std::string(primitive(shape)) + " {");
                     line(indent + 1, geometry(shape));
-                    appearance(object, indent + 1, pass);
+                    appearance(object.leaf, object.material, indent + 1, pass);
                 }
                 for (const std::string& modifier : modifiers) {
                     line(indent + 1, modifier);
@@ -277,6 +285,68 @@ private:
                 line(indent, "}");
             },
             object.shape);
+    }
+
+    // mesh2, its degenerate triangles left out (we never hit them; POV-Ray warns of them). With smooth
+    // normals, normal_vectors as given (POV-Ray interpolates them itself, not turned to the geometric side).
+    // Negating z mirrors each triangle, which only swaps its sides; POV-Ray does not cull either.
+    void write_mesh(const scene::Mesh& mesh) {
+        const scene::MeshData& data = *mesh.data;
+        const auto material = static_cast<std::size_t>(mesh.material);
+        const scene::Material& m = scene_.materials.at(material);
+        plan_ = InteriorPlan{};
+        if (!object_ids_ && m.transmission > 0) {
+            plan_ = {true, true, m.ior, materials_.at(material).refraction,
+                     materials_.at(material).transmit != m.transmission};
+        }
+        auto write = [&](Pass pass, const std::vector<std::string>& modifiers) {
+            line(0, "// " + scene_.leaf_paths.at(static_cast<std::size_t>(mesh.leaf)));
+            line(0, "mesh2 {");
+            line(1, "vertex_vectors { " + std::to_string(data.vertices.size()) + ",");
+            for (const scene::Vec3& vertex : data.vertices) {
+                line(2, point(vertex) + ",");
+            }
+            line(1, "}");
+            if (data.smooth) {
+                line(1, "normal_vectors { " + std::to_string(data.normals.size()) + ",");
+                for (const scene::Vec3& normal : data.normals) {
+                    line(2, point(normal) + ",");
+                }
+                line(1, "}");
+            }
+            line(1, "face_indices { " + std::to_string(data.triangles.size() - data.degenerate.size()) + ",");
+            std::size_t next_degenerate = 0;
+            for (std::uint32_t i = 0; i < data.triangles.size(); ++i) {
+                if (next_degenerate < data.degenerate.size() && data.degenerate[next_degenerate] == i) {
+                    ++next_degenerate;
+                    continue;
+                }
+                const std::array<std::uint32_t, 3>& t = data.triangles[i];
+                line(2, "<" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ">,");
+            }
+            line(1, "}");
+            appearance(mesh.leaf, mesh.material, 1, pass);
+            for (const std::string& modifier : modifiers) {
+                line(1, modifier);
+            }
+            line(0, "}");
+        };
+        if (object_ids_) {
+            write(Pass::object_ids, {});
+            return;
+        }
+        std::vector<std::string> modifiers;
+        if (plan_.shared) {
+            modifiers.push_back("interior { ior " + number(plan_.ior) + " }");
+        }
+        if (plan_.needs_shadow_caster) {
+            modifiers.push_back("no_shadow  // the copy below casts this mesh's shadows");
+        }
+        write(Pass::shaded, modifiers);
+        if (plan_.needs_shadow_caster) {
+            line(0, "// The same mesh, invisible to every ray but shadow rays, passing our transmission to shadows.");
+            write(Pass::shadow_caster, {"no_image", "no_reflection"});
+        }
     }
 
     static const char* primitive(const scene::Plane&) { return "plane"; }
@@ -298,11 +368,11 @@ private:
         return triple(box.min[0], box.min[1], -box.max[2]) + ", " + triple(box.max[0], box.max[1], -box.min[2]);
     }
 
-    void appearance(const scene::Object& leaf, int indent, Pass pass) {
-        const auto material = static_cast<std::size_t>(leaf.material);
+    void appearance(int leaf, int material_index, int indent, Pass pass) {
+        const auto material = static_cast<std::size_t>(material_index);
         const scene::Material& m = scene_.materials.at(material);
         if (pass == Pass::object_ids) {
-            int id = leaf.leaf + 1;
+            int id = leaf + 1;
             if (id > 65535) {
                 throw std::invalid_argument("the object-id pass encodes at most 65535 primitives");
             }

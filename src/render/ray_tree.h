@@ -53,7 +53,8 @@ struct RayNode {
     Vec3d direction{};  // unit
     bool hit = false;
     // When hit: the first surface (the tracer's intersect()).
-    int leaf = -1;  // Scene::leaf_paths
+    int leaf = -1;      // Scene::leaf_paths
+    int triangle = -1;  // for a mesh, the triangle's index in it
     double t = 0;
     Vec3d point{};
     Vec3d normal{};  // unit, facing the ray
@@ -91,10 +92,11 @@ struct RayTree {
     }
 
     // What the ray of `node` hit (a node without this call is a miss).
-    void set_hit(int node, int leaf, double t, Vec3d point, Vec3d normal, bool entering) {
+    void set_hit(int node, int leaf, int triangle, double t, Vec3d point, Vec3d normal, bool entering) {
         RayNode& n = nodes[static_cast<std::size_t>(node)];
         n.hit = true;
         n.leaf = leaf;
+        n.triangle = triangle;
         n.t = t;
         n.point = point;
         n.normal = normal;

@@ -1,5 +1,6 @@
 #include "scene/geometry.h"
 
+#include <memory>
 #include <variant>
 
 namespace twinray::scene {
@@ -64,7 +65,38 @@ Scene moved(const Scene& scene, double scale, const Vec3& shift) {
     for (Object& object : result.objects) {
         move(object, scale, shift);
     }
+    for (Mesh& mesh : result.meshes) {
+        mesh = moved(mesh, scale, shift);
+    }
     return result;
+}
+
+Bounds bounds(const Mesh& mesh) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    Bounds out{{inf, inf, inf}, {-inf, -inf, -inf}};
+    for (const Vec3& vertex : mesh.data->vertices) {
+        for (int axis = 0; axis < 3; ++axis) {
+            out.low[axis] = std::min(out.low[axis], vertex[axis]);
+            out.high[axis] = std::max(out.high[axis], vertex[axis]);
+        }
+    }
+    return out;
+}
+
+Mesh moved(const Mesh& mesh, double scale, const Vec3& shift) {
+    auto data = std::make_shared<MeshData>(*mesh.data);
+    for (Vec3& vertex : data->vertices) {
+        vertex = moved(vertex, scale, shift);
+    }
+    return {std::move(data), mesh.material, mesh.leaf};
+}
+
+double largest_coordinate(const Mesh& mesh) {
+    double largest = 0;
+    for (const Vec3& vertex : mesh.data->vertices) {
+        largest = std::max(largest, largest_coordinate(vertex));
+    }
+    return largest;
 }
 
 void round_to_float(Object& object) {

@@ -164,6 +164,39 @@ math::SurfaceBounds<T> surface_bounds_of_box() {
     return {{T(0), T(0)}, {T(0), math::rounding_bound<T>(3)}};
 }
 
+// Mesh -------------------------------------------------------------------------------------------------
+// Not in PrimitiveTypes: a mesh is a surface of many triangles, not a solid (scene.h).
+
+inline Bounds bounds(const MeshData& mesh, const std::array<std::uint32_t, 3>& triangle) {
+    Bounds out = around(mesh.vertices[triangle[0]], mesh.vertices[triangle[1]], 0.0);
+    for (int axis = 0; axis < 3; ++axis) {
+        out.low[axis] = std::min(out.low[axis], mesh.vertices[triangle[2]][axis]);
+        out.high[axis] = std::max(out.high[axis], mesh.vertices[triangle[2]][axis]);
+    }
+    return out;
+}
+// Its vertices' box: the triangles only ever use vertices.
+Bounds bounds(const Mesh& mesh);
+// Vertices moved, normals kept (a move is a scale and a translation).
+Mesh moved(const Mesh& mesh, double scale, const Vec3& shift);
+double largest_coordinate(const Mesh& mesh);
+// The longest edge of a triangle, the size its rounding bounds scale with.
+inline double longest_edge(const MeshData& mesh, const std::array<std::uint32_t, 3>& triangle) {
+    double longest = 0;
+    for (int i = 0; i < 3; ++i) {
+        longest = std::max(longest, length(mesh.vertices[triangle[(i + 1) % 3]] - mesh.vertices[triangle[i]]));
+    }
+    return longest;
+}
+// own rounding γ(6)·e + γ(3)·|p|∞, spawn offset γ(16)·e + γ(5)·|p'|∞ with e the longest edge
+// (reference/triangle.h derives them).
+template <typename T>
+math::SurfaceBounds<T> surface_bounds_of_triangle(T longest_edge) {
+    using math::rounding_bound;
+    return {{rounding_bound<T>(6) * longest_edge, rounding_bound<T>(3)},
+            {rounding_bound<T>(16) * longest_edge, rounding_bound<T>(5)}};
+}
+
 // Any object ---------------------------------------------------------------------------------------------
 
 // A conservative bound: an intersection by the overlap of its children's bounds, a difference by its first
@@ -171,7 +204,7 @@ math::SurfaceBounds<T> surface_bounds_of_box() {
 Bounds bounds(const Object& object);
 // Every primitive moved (p·scale + shift, lengths times scale).
 void move(Object& object, double scale, const Vec3& shift);
-// The whole scene moved so: camera, lights and every object.
+// The whole scene moved so: camera, lights, every object and every mesh.
 Scene moved(const Scene& scene, double scale, const Vec3& shift);
 // Every coordinate and length rounded to float: the geometry a float tracer holds.
 void round_to_float(Object& object);

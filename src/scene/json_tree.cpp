@@ -8,6 +8,10 @@ JsonKind JsonValue::kind() const {
     return tree_->entry(index_).kind;
 }
 
+bool JsonValue::boolean() const {
+    return tree_->entry(index_).boolean;
+}
+
 bool JsonValue::is_number() const {
     const JsonKind k = kind();
     return k == JsonKind::signed_integer || k == JsonKind::unsigned_integer || k == JsonKind::floating;

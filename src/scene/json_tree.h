@@ -26,6 +26,8 @@ public:
     bool is_array() const { return kind() == JsonKind::array; }
     bool is_string() const { return kind() == JsonKind::string; }
     bool is_number() const;
+    bool is_boolean() const { return kind() == JsonKind::boolean; }
+    bool boolean() const;
 
     // Arrays and objects: the number of elements or members.
     std::size_t size() const;

@@ -47,8 +47,11 @@ public:
     // they never move while growing: moving them touched twice their size in new pages, which cost more
     // than the parsing. Pages of the reserve that no primitive fills are never touched and take no memory,
     // but the address space counts: a file of gigabytes must not reserve it for more than the limit.
-    SceneReader(const JsonTree& tree, std::size_t text_bytes, std::size_t max_primitives)
-        : tree_(tree), max_primitives_(std::min(max_primitives, max_scene_primitives)) {
+    SceneReader(const JsonTree& tree, std::size_t text_bytes, std::size_t max_primitives,
+                std::filesystem::path base_directory)
+        : tree_(tree),
+          max_primitives_(std::min(max_primitives, max_scene_primitives)),
+          base_directory_(std::move(base_directory)) {
         const std::size_t most_primitives = std::min(text_bytes / smallest_primitive_text, max_primitives_);
         scene_.objects.reserve(most_primitives);
         scene_.leaf_paths.reserve(most_primitives);
@@ -77,7 +80,8 @@ public:
         try {
             const Node root = Node::root(tree_.root());
             const Node objects = root.member(array, "objects");
-            read_top_level_object(objects.element(value, index), material_names_, max_primitives_, scene_);
+            read_top_level_object(objects.element(value, index), material_names_, max_primitives_, base_directory_,
+                                  scene_);
         } catch (const Refusal& refusal) {
             first_refusal_ = refusal;
         }
@@ -115,22 +119,24 @@ private:
             return;
         }
         for (const Node& element : require_array(objects, "an array of objects")) {
-            read_top_level_object(element, scene_.material_names, max_primitives_, scene_);
+            read_top_level_object(element, scene_.material_names, max_primitives_, base_directory_, scene_);
         }
     }
 
     const JsonTree& tree_;
     const std::size_t max_primitives_;
+    const std::filesystem::path base_directory_;
     Scene scene_;
     std::vector<std::string> material_names_;
     bool streamed_ = false;
     std::optional<Refusal> first_refusal_;
 };
 
+// Mesh files are looked for beside the scene file (`source`).
 template <class Input>
-Scene read_scene(Input input, std::size_t text_bytes, std::size_t max_primitives) {
+Scene read_scene(Input input, std::size_t text_bytes, std::size_t max_primitives, const std::filesystem::path& source) {
     JsonTree tree;
-    SceneReader reader(tree, text_bytes, max_primitives);
+    SceneReader reader(tree, text_bytes, max_primitives, source.parent_path());
     read_json(input, tree, reader);
     return reader.read(Node::root(tree.root()));
 }
@@ -157,7 +163,7 @@ SceneError::SceneError(std::string file, std::string location, std::string probl
 
 Scene parse_scene(std::string_view json_text, const std::string& source_name, std::size_t max_primitives) {
     try {
-        return read_scene(json_text, json_text.size(), max_primitives);
+        return read_scene(json_text, json_text.size(), max_primitives, source_name);
     } catch (const Refusal& refusal) {
         throw SceneError(source_name, refusal.location, refusal.problem);
     }
@@ -172,7 +178,7 @@ Scene load_scene(const std::filesystem::path& file, std::size_t max_primitives) 
     const std::size_t text_bytes =
         fstat(fileno(stream.get()), &status) == 0 ? static_cast<std::size_t>(status.st_size) : 0;
     try {
-        return read_scene(stream.get(), text_bytes, max_primitives);
+        return read_scene(stream.get(), text_bytes, max_primitives, file);
     } catch (const Refusal& refusal) {
         throw SceneError(file.string(), refusal.location, refusal.problem);
     } catch (const std::system_error& error) {

@@ -28,7 +28,8 @@ private:
     std::string problem_;
 };
 
-// `source_name` is used only in messages (a file path, or e.g. "<string>"). A scene of more than
+// `source_name` names the text in messages (a file path, or e.g. "<string>"), and its folder is where a
+// mesh's "file" is looked for (the current folder for a name without one). A scene of more than
 // `max_primitives` primitives (at most max_scene_primitives: a larger number is not honoured) is refused as
 // it is read, before the loader holds or reserves memory for more.
 Scene parse_scene(std::string_view json_text, const std::string& source_name,

@@ -1,7 +1,15 @@
 // The scene's objects: primitives, and CSG trees of them.
 #include "scene/read_scene.h"
 
+#include "math/exact_predicates.h"
+#include "scene/loader.h"
+#include "scene/mesh_file.h"
+
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <memory>
 #include <variant>
 
 namespace twinray::scene {
@@ -47,10 +55,13 @@ Shape read_box(const Node& node) {
     return Box{min, max_corner};
 }
 
+// A mesh is read apart from the other objects: it is not a Shape (meshes are surfaces, never CSG children).
+struct MeshKind {};
+
 struct ObjectKind {
     std::string_view type;
     Schema schema;
-    std::variant<Shape (*)(const Node&), CsgOp> shape;  // how a primitive is read, or which CSG node
+    std::variant<Shape (*)(const Node&), CsgOp, MeshKind> shape;  // how a primitive is read, which CSG node, or a mesh
 };
 
 Schema object_schema(std::string_view noun, std::vector<std::string_view> own_keys) {
@@ -66,6 +77,8 @@ const ObjectKind object_kinds[] = {
     {"union", object_schema("a union", {"children"}), CsgOp::union_},
     {"intersection", object_schema("an intersection", {"children"}), CsgOp::intersection},
     {"difference", object_schema("a difference", {"children"}), CsgOp::difference},
+    {"mesh", Schema{"a mesh", {"type"}, {"vertices", "triangles", "normals", "file", "smooth", "material"}},
+     MeshKind{}},
 };
 
 std::string object_types() {
@@ -91,11 +104,157 @@ const ObjectKind& require_object_kind(const Node& object) {
     refuse(type->path(), "unknown object type " + in_quotes(name) + "; allowed types: " + object_types());
 }
 
+std::array<double, 3> as_array(const Vec3& v) {
+    return {v[0], v[1], v[2]};
+}
+
+// Zero area: a repeated index, or three collinear vertices (decided exactly, so that both tracers, which
+// skip these, agree on which they are).
+bool is_degenerate(const MeshData& mesh, const std::array<std::uint32_t, 3>& triangle) {
+    if (triangle[0] == triangle[1] || triangle[1] == triangle[2] || triangle[2] == triangle[0]) {
+        return true;
+    }
+    return math::exactly_collinear(as_array(mesh.vertices[triangle[0]]), as_array(mesh.vertices[triangle[1]]),
+                                   as_array(mesh.vertices[triangle[2]]));
+}
+
+// Each vertex's normal as the sum of its triangles' (b − a) × (c − a), whose length is twice the area: large
+// triangles weigh more, slivers nothing. Computed here once, in double, so that both tracers shade with the
+// same normals. A vertex no triangle with area uses keeps a zero normal, which shading passes over.
+std::vector<Vec3> area_weighted_normals(const MeshData& mesh) {
+    std::vector<Vec3> sums(mesh.vertices.size(), Vec3{0, 0, 0});
+    for (const std::array<std::uint32_t, 3>& triangle : mesh.triangles) {
+        const Vec3& a = mesh.vertices[triangle[0]];
+        const Vec3 twice_area = cross(mesh.vertices[triangle[1]] - a, mesh.vertices[triangle[2]] - a);
+        for (std::uint32_t corner : triangle) {
+            sums[corner] = sums[corner] + twice_area;
+        }
+    }
+    for (Vec3& sum : sums) {
+        if (!is_zero(sum)) {
+            sum = normalized(sum);
+        }
+    }
+    return sums;
+}
+
+std::vector<Vec3> read_points(const Node& node, std::string_view expected) {
+    std::vector<Vec3> points;
+    const std::vector<Node> elements = require_array(node, expected);
+    points.reserve(elements.size());
+    for (const Node& element : elements) {
+        points.push_back(require_vec3(element));
+    }
+    return points;
+}
+
+// Three indices of `vertex_count` vertices, integers written as JSON numbers.
+std::array<std::uint32_t, 3> read_triangle(const Node& node, std::size_t vertex_count) {
+    const std::vector<Node> corners = require_array(node, "an array of 3 vertex indices");
+    if (corners.size() != 3) {
+        refuse(node.path(), "expected 3 vertex indices, got " + std::to_string(corners.size()));
+    }
+    std::array<std::uint32_t, 3> triangle{};
+    for (std::size_t i = 0; i < 3; ++i) {
+        const double index = require_number(corners[i]);
+        if (!(std::floor(index) == index && index >= 0 && index < static_cast<double>(vertex_count))) {
+            refuse(corners[i].path(), "must be a vertex index, an integer from 0 to " +
+                                          std::to_string(static_cast<long long>(vertex_count) - 1) + " (the mesh has " +
+                                          std::to_string(vertex_count) + " vertices), got " +
+                                          describe(corners[i].json()));
+        }
+        triangle[i] = static_cast<std::uint32_t>(index);
+    }
+    return triangle;
+}
+
+// The key a mesh must have when it names no file.
+Node required_mesh_key(const Node& node, std::string_view key) {
+    const std::optional<Node> value = find_key(node, key);
+    if (!value) {
+        refuse(key_path(node.path(), key), "missing required key " + in_quotes(key) +
+                                               "; a mesh gives \"vertices\" and \"triangles\", or a \"file\"");
+    }
+    return *value;
+}
+
+MeshData read_inline_mesh(const Node& node, std::size_t triangles_allowed) {
+    MeshData mesh;
+    mesh.vertices = read_points(required_mesh_key(node, "vertices"), "an array of vertices [x, y, z]");
+    const Node triangles = required_mesh_key(node, "triangles");
+    const std::vector<Node> elements = require_array(triangles, "an array of triangles [i, j, k]");
+    if (elements.empty()) {
+        refuse(triangles.path(), "a mesh needs at least one triangle, got none");
+    }
+    if (elements.size() > triangles_allowed) {
+        refuse(triangles.path(),
+               over_primitive_limit("its " + std::to_string(elements.size()) + " triangles", triangles_allowed));
+    }
+    mesh.triangles.reserve(elements.size());
+    for (const Node& element : elements) {
+        mesh.triangles.push_back(read_triangle(element, mesh.vertices.size()));
+    }
+    if (const std::optional<Node> normals = find_key(node, "normals")) {
+        mesh.normals = read_points(*normals, "an array of vertex normals [x, y, z]");
+        if (mesh.normals.size() != mesh.vertices.size()) {
+            refuse(normals->path(), "expected one normal per vertex (" + std::to_string(mesh.vertices.size()) +
+                                        "), got " + std::to_string(mesh.normals.size()));
+        }
+        for (std::size_t i = 0; i < mesh.normals.size(); ++i) {
+            if (is_zero(mesh.normals[i])) {
+                refuse(index_path(normals->path(), i), "a normal must be non-zero, got [0, 0, 0]");
+            }
+            mesh.normals[i] = normalized(mesh.normals[i]);
+        }
+    }
+    return mesh;
+}
+
+// A mesh file (scene/mesh_file.h), relative to the scene file's folder; its refusal keeps the file's own
+// location (a line, an element) behind the JSON path of `file`.
+MeshFileResult read_mesh_from_file(const Node& node, const Node& file, const std::filesystem::path& base_directory,
+                                   std::size_t triangles_allowed) {
+    for (std::string_view inline_key : {"vertices", "triangles", "normals"}) {
+        if (const std::optional<Node> extra = find_key(node, inline_key)) {
+            refuse(extra->path(),
+                   "a mesh gives either a \"file\" or its " + std::string(inline_key) + " inline, not both");
+        }
+    }
+    const std::string_view name = require_string(file);
+    if (name.empty()) {
+        refuse(file.path(), "expected the name of an OBJ, PLY or STL file, got an empty string");
+    }
+    const std::filesystem::path path = base_directory / std::filesystem::path(std::string(name));
+    try {
+        MeshFileResult result = read_mesh_file(path, triangles_allowed);
+        result.mesh.file = std::string(name);
+        return result;
+    } catch (const SceneError& error) {
+        refuse(file.path(), error.what());
+    }
+}
+
+// Degenerate triangles listed, and the shading normals `smooth` asks for: absent, interpolated where the
+// mesh has normals; true without normals, area-weighted vertex normals; false, flat whatever it has.
+void finish_mesh(const Node& node, MeshData& mesh) {
+    mesh.smooth = read_or(node, "smooth", !mesh.normals.empty(), require_boolean);
+    mesh.degenerate.clear();
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+        if (is_degenerate(mesh, mesh.triangles[i])) {
+            mesh.degenerate.push_back(static_cast<std::uint32_t>(i));
+        }
+    }
+    if (mesh.smooth && mesh.normals.empty()) {
+        mesh.normals = area_weighted_normals(mesh);
+    }
+}
+
 // Reads the objects of one top-level element; `names` are the material names objects may use.
 class ObjectReader {
 public:
-    ObjectReader(const std::vector<std::string>& names, std::size_t max_primitives, Scene& scene)
-        : names_(names), max_primitives_(max_primitives), scene_(scene) {}
+    ObjectReader(const std::vector<std::string>& names, std::size_t max_primitives, Scene& scene,
+                 std::filesystem::path base_directory = {})
+        : names_(names), max_primitives_(max_primitives), scene_(scene), base_directory_(std::move(base_directory)) {}
 
     // `level` bounds the recursion (max_object_nesting); `inherited_material` is that of the nearest
     // ancestor naming one, else the default.
@@ -111,7 +270,10 @@ public:
         if (const CsgOp* op = std::get_if<CsgOp>(&kind.shape)) {
             return Object{read_csg(node, *op, level, material), material, -1};
         }
-        if (scene_.leaf_paths.size() == max_primitives_) {
+        if (std::holds_alternative<MeshKind>(kind.shape)) {
+            refuse(node.path(), "a mesh may not be a CSG child (meshes are surfaces, not solids); place it in objects");
+        }
+        if (scene_.primitive_count() == max_primitives_) {
             refuse(node.path(),
                    over_primitive_limit("primitive number " + std::to_string(max_primitives_ + 1) + " of the scene",
                                         max_primitives_));
@@ -121,6 +283,29 @@ public:
         scene_.leaf_paths.push_back(node.path());
         scene_.leaf_materials.push_back(material);
         return Object{std::move(shape), material, leaf};
+    }
+
+    // A top-level mesh: one leaf, its triangles counted towards the primitive limit.
+    void read_mesh(const Node& node) {
+        require_keys_of(node, require_object_kind(node).schema);
+        const int material =
+            read_or(node, "material", 0, [this](const Node& name) { return require_material_name(name); });
+        const std::size_t triangles_allowed = max_primitives_ - scene_.primitive_count();
+        auto data = std::make_shared<MeshData>();
+        if (const std::optional<Node> file = find_key(node, "file")) {
+            MeshFileResult read = read_mesh_from_file(node, *file, base_directory_, triangles_allowed);
+            *data = std::move(read.mesh);
+            for (const std::string& warning : read.warnings) {
+                scene_.warnings.push_back(file->path() + ": " + data->file + ": " + warning);
+            }
+        } else {
+            *data = read_inline_mesh(node, triangles_allowed);
+        }
+        finish_mesh(node, *data);
+        const int leaf = static_cast<int>(scene_.leaf_paths.size());
+        scene_.leaf_paths.push_back(node.path());
+        scene_.leaf_materials.push_back(material);
+        scene_.meshes.push_back(Mesh{std::move(data), material, leaf});
     }
 
 private:
@@ -153,12 +338,20 @@ private:
     const std::vector<std::string>& names_;
     const std::size_t max_primitives_;
     Scene& scene_;
+    const std::filesystem::path base_directory_;  // where a mesh's file is looked for
 };
 
 }  // namespace
 
 void read_top_level_object(const Node& element, const std::vector<std::string>& material_names,
-                           std::size_t max_primitives, Scene& scene) {
+                           std::size_t max_primitives, const std::filesystem::path& base_directory, Scene& scene) {
+    if (std::holds_alternative<MeshKind>(require_object_kind(element).shape)) {
+        if (scene.primitive_count() == max_primitives) {
+            refuse(element.path(), over_primitive_limit("the mesh", max_primitives));
+        }
+        ObjectReader(material_names, max_primitives, scene, base_directory).read_mesh(element);
+        return;
+    }
     const std::size_t leaves_before = scene.leaf_paths.size();
     scene.objects.push_back(ObjectReader(material_names, max_primitives, scene).read(element, 1, 0));
     const std::size_t leaves = scene.leaf_paths.size() - leaves_before;

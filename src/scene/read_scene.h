@@ -5,6 +5,7 @@
 #include "scene/read_values.h"
 #include "scene/scene.h"
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,8 @@ std::vector<std::string> material_names_of(const JsonValue& materials);
 // Reads one element of `objects` (a primitive, or a CSG tree) into the scene: the object, and each of
 // its primitives' path and material. `material_names` as in material_names_of. Refuses the primitive that
 // would make the scene's count exceed `max_primitives`.
+// `base_directory`: where a mesh's "file" is looked for, the scene file's folder.
 void read_top_level_object(const Node& element, const std::vector<std::string>& material_names,
-                           std::size_t max_primitives, Scene& scene);
+                           std::size_t max_primitives, const std::filesystem::path& base_directory, Scene& scene);
 
 }  // namespace twinray::scene

@@ -152,6 +152,13 @@ double require_number(const Node& node) {
     return node.json().number();
 }
 
+bool require_boolean(const Node& node) {
+    if (!node.json().is_boolean()) {
+        refuse(node.path(), "expected true or false, got " + describe(node.json()));
+    }
+    return node.json().boolean();
+}
+
 std::string Range::describe() const {
     const std::string lower = (low_inclusive ? ">= " : "> ") + format_number(low);
     return std::isinf(high) ? lower : lower + " and < " + format_number(high);

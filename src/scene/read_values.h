@@ -69,6 +69,7 @@ T read_or(const Node& object, std::string_view key, T fallback, Read read) {
 std::vector<Node> require_array(const Node& node, std::string_view expected);
 std::string_view require_string(const Node& node);
 double require_number(const Node& node);
+bool require_boolean(const Node& node);
 
 // The contract's real-valued limits: an open or closed lower bound, an optional open upper bound.
 struct Range {

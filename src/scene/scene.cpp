@@ -41,11 +41,23 @@ bool Scene::has_csg() const {
 }
 
 bool Scene::has_transparency() const {
-    return any_leaf(objects, [this](const Object& leaf) { return materials[leaf.material].transmission > 0; });
+    return any_leaf(objects, [this](const Object& leaf) { return materials[leaf.material].transmission > 0; }) ||
+           std::any_of(meshes.begin(), meshes.end(),
+                       [this](const Mesh& mesh) { return materials[mesh.material].transmission > 0; });
 }
 
 bool Scene::has_reflection() const {
-    return any_leaf(objects, [this](const Object& leaf) { return materials[leaf.material].reflection > 0; });
+    return any_leaf(objects, [this](const Object& leaf) { return materials[leaf.material].reflection > 0; }) ||
+           std::any_of(meshes.begin(), meshes.end(),
+                       [this](const Mesh& mesh) { return materials[mesh.material].reflection > 0; });
+}
+
+std::size_t Scene::primitive_count() const {
+    std::size_t count = leaf_paths.size() - meshes.size();
+    for (const Mesh& mesh : meshes) {
+        count += mesh.data->triangles.size();
+    }
+    return count;
 }
 
 ImageSize resolve_image_size(const Scene& scene, int requested_width, int requested_height) {

@@ -5,7 +5,10 @@
 #include "math/type_list.h"
 #include "math/vec3.h"
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -93,6 +96,28 @@ struct Object {
     int leaf = -1;
 };
 
+// A triangle mesh's shared data: vertices in double as the scene file gives them (a file's values as its
+// reader rounds them, docs/scene-format.md), triangles as three vertex indices, counter-clockwise seen from
+// the front. Degenerate triangles (a repeated index, or three collinear vertices) are kept, so that indices
+// stay those of the file, and listed in `degenerate`: neither tracer ever reports a hit on one.
+struct MeshData {
+    std::vector<Vec3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<Vec3> normals;  // empty, or one unit normal per vertex: shading normals when `smooth`
+    bool smooth = false;
+    std::vector<std::uint32_t> degenerate;  // triangle indices, ascending
+    std::string file;                       // the file it was read from, or empty for an inline mesh
+};
+
+// A mesh is one leaf (one material, one path in leaf_paths); a hit on it names the leaf and the triangle.
+// Meshes are surfaces, not solids: they are never CSG children, and a ray crossing a mesh enters where it
+// meets a triangle's front (its geometric normal facing the ray) and leaves where it meets a back.
+struct Mesh {
+    std::shared_ptr<const MeshData> data;
+    int material = 0;
+    int leaf = -1;
+};
+
 struct Scene {
     int width = 320;
     int height = 240;
@@ -108,21 +133,29 @@ struct Scene {
     std::vector<std::string> material_names{"(default)"};
     std::vector<Light> lights;
     std::vector<Object> objects;
+    // The meshes among `objects`' elements, in file order; each has its leaf number like any primitive.
+    std::vector<Mesh> meshes;
     // The stable id of every primitive: its index path in the file, e.g. "objects[4].children[1]".
     std::vector<std::string> leaf_paths;
 
     bool has_csg() const;
+    bool has_meshes() const { return !meshes.empty(); }
+    // What the primitive limit counts: every leaf but a mesh, and each of a mesh's triangles.
+    std::size_t primitive_count() const;
     bool has_transparency() const;
     bool has_reflection() const;
     const Material& material_of_leaf(int leaf) const { return materials[leaf_materials[leaf]]; }
 
     // Filled by the loader beside leaf_paths: leaf index -> material index.
     std::vector<int> leaf_materials;
+    // What the loader read but does not use (a mesh file's materials and colours), each naming its JSON path
+    // and file: for the commands to show.
+    std::vector<std::string> warnings;
 };
 
 constexpr int max_image_side = 16384;
 constexpr int max_trace_depth = 64;
-// Primitives (leaves, CSG children included) in one scene. Memory sets this limit, not the ids (int32, 2^31):
+// Primitives (leaves, CSG children included, and every triangle of a mesh) in one scene. Memory sets this limit, not the ids (int32, 2^31):
 // `twinray render` peaks at about 560 bytes per primitive (the scene model, its copy the SSE tracer compiles
 // from, the compiled scene and the BVH; docs/scene-format.md, "Limits"), so a scene at the limit needs about
 // 2.4 GB. Four times the most `twinray generate` writes. The loader refuses a scene past it as it reads,

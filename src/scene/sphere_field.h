@@ -1,5 +1,8 @@
 // A generated scene family for measuring how cost grows with scene size (twinray bench --scaling):
 // `count` spheres scattered in a cube, one light, no reflection, the same picture density at any count.
+// Built in memory, not written as text, so that what stands on the scene model alone (loader_test,
+// precision_test, benchmarks/scene_load_benchmark) has it without the command line; the families of
+// `twinray generate` live in src/cli/generate/.
 #pragma once
 
 #include "scene/scene.h"

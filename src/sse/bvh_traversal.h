@@ -243,14 +243,23 @@ private:
 };
 
 // Calls visit(span, id, transmission, list) for every primitive of a BVH leaf that some ray of the packet meets
-// (as for_each_span), and adds the leaf's CSG objects to `csg`.
-template <typename P, typename Visit>
-void for_each_span_in_leaf(const CompiledScene& scene, BvhLeaf leaf, const RayPacket& rays, CsgCandidates& csg,
-                           Visit&& visit) {
+// (as for_each_span) and visit_triangle(crossing, place) for every triangle (its place in scene.triangles), and
+// adds the leaf's CSG objects to `csg`. `sheared` is the packet's frame for triangles (used only if the scene
+// has some).
+template <typename P, typename Visit, typename VisitTriangle>
+void for_each_span_in_leaf(const CompiledScene& scene, BvhLeaf leaf, const RayPacket& rays, const ShearedRays& sheared,
+                           CsgCandidates& csg, Visit&& visit, VisitTriangle&& visit_triangle) {
     for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
         const BvhItem& item = scene.bvh.items[i];
         if (item.list == csg_list) {
             csg.add(item.index);
+            continue;
+        }
+        if (item.list == triangle_list) {
+            TriangleHit4 crossing = crossing_of<P>(scene.triangles.items[item.index], sheared);
+            if (any(crossing.valid)) {
+                visit_triangle(crossing, item.index);
+            }
             continue;
         }
         scene.primitives.visit_list(item.list, [&](const auto& list) {

@@ -104,6 +104,10 @@ public:
                 unbounded.push_back(item);
             }
         }
+        for (std::size_t mesh = 0; mesh < scene_.meshes.size(); ++mesh) {
+            add_mesh(out, scene_.meshes[mesh], static_cast<std::uint32_t>(mesh), bounded);
+        }
+        bounded_leaves += out.triangles.items.size();
         if (accel_ == Accel::bvh || (accel_ == Accel::automatic && bounded_leaves > bvh_crossover)) {
             add_bvh(out, bounded, unbounded);
         }
@@ -165,13 +169,14 @@ private:
             out.bvh.file_order[first[item.list] + item.index] = leaf_place;
             return leaf_place;
         };
+        // CSG objects and triangles keep their places (a triangle's place orders ties within its mesh).
         for (BvhItem& item : out.bvh.items) {
-            if (item.list != csg_list) {
+            if (item.list < csg_list) {
                 item.index = place(item);
             }
         }
         for (const BvhItem& item : unbounded) {
-            if (item.list != csg_list) {
+            if (item.list < csg_list) {
                 place(item);
             }
         }
@@ -189,6 +194,38 @@ private:
             }
         };
         std::apply([&](auto&... list) { (permute(list), ...); }, out.primitives.of_type);
+    }
+
+    // Its triangles to the triangle list and, bounded, to the BVH's inputs; its leaf to the mesh's surface.
+    static void add_mesh(CompiledScene& out, const scene::Mesh& mesh, std::uint32_t index,
+                         std::vector<BvhInput>& bounded) {
+        const scene::MeshData& data = *mesh.data;
+        out.leaves[static_cast<std::size_t>(mesh.leaf)] = {MeshSurface{index}, mesh.material};
+        CompiledMesh compiled;
+        if (data.smooth) {
+            compiled.corners.assign(data.triangles.begin(), data.triangles.end());
+            for (const scene::Vec3& normal : data.normals) {
+                compiled.normals.push_back(Vec3(normal));
+            }
+        }
+        out.meshes.push_back(std::move(compiled));
+        TriangleList& triangles = out.triangles;
+        const std::size_t live = data.triangles.size() - data.degenerate.size();
+        triangles.items.reserve(triangles.items.size() + live);
+        triangles.leaf.reserve(triangles.leaf.size() + live);
+        triangles.triangle.reserve(triangles.triangle.size() + live);
+        std::size_t next_degenerate = 0;
+        for (std::uint32_t i = 0; i < data.triangles.size(); ++i) {
+            if (next_degenerate < data.degenerate.size() && data.degenerate[next_degenerate] == i) {
+                ++next_degenerate;
+                continue;
+            }
+            bounded.push_back({scene::bounds(data, data.triangles[i]),
+                               {triangle_list, static_cast<std::uint32_t>(triangles.items.size())}});
+            triangles.items.push_back(make_triangle(data, data.triangles[i]));
+            triangles.leaf.push_back(mesh.leaf);
+            triangles.triangle.push_back(i);
+        }
     }
 
     float transmission_of(const scene::Object& object) const {
@@ -236,6 +273,10 @@ scene::Vec3 origin_of(const scene::Scene& scene) {
         scene::move(seen_from_eye, 1, -eye);
         around_world_origin = std::max(around_world_origin, scene::largest_coordinate(object));
         around_eye = std::max(around_eye, scene::largest_coordinate(seen_from_eye));
+    }
+    for (const scene::Mesh& mesh : scene.meshes) {
+        around_world_origin = std::max(around_world_origin, scene::largest_coordinate(mesh));
+        around_eye = std::max(around_eye, scene::largest_coordinate(scene::moved(mesh, 1, -eye)));
     }
     return around_eye < around_world_origin ? eye : scene::Vec3{0, 0, 0};
 }

@@ -14,6 +14,7 @@
 #include "sse/plane.h"
 #include "sse/sphere.h"
 #include "sse/tracer.h"
+#include "sse/triangle.h"
 
 #include <cstdint>
 #include <tuple>
@@ -93,6 +94,23 @@ constexpr std::uint32_t list_index_of() {
 
 // BvhItem::list of a CSG object (an index into CompiledScene::csg_objects).
 constexpr std::uint32_t csg_list = scene::PrimitiveTypes::size;
+// BvhItem::list of a mesh's triangle (an index into CompiledScene::triangles).
+constexpr std::uint32_t triangle_list = csg_list + 1;
+
+// Every mesh's triangles that can be hit (degenerate ones are left out), mesh after mesh in file order and
+// each mesh's in its own order, so that between two triangles of one mesh the lower place is the lower
+// triangle index (the tie-break rule). 44 bytes a triangle.
+struct TriangleList {
+    LargeArray<TriangleRecord> items;
+    LargeArray<std::int32_t> leaf;       // its mesh's leaf
+    LargeArray<std::uint32_t> triangle;  // its index in the mesh (scene::MeshData::triangles)
+};
+
+// What a mesh's hits need beyond the triangle: the vertex normals it shades with, if smooth.
+struct CompiledMesh {
+    LargeArray<std::array<std::uint32_t, 3>> corners;  // by triangle index; empty when flat
+    LargeArray<Vec3> normals;                          // by vertex; empty when flat
+};
 
 // One list per primitive type, in the order of scene::PrimitiveTypes.
 struct PrimitiveLists {
@@ -158,7 +176,11 @@ struct CsgObject {
 
 // What the normal of a hit and its re-projection onto the surface need, per leaf (looked up once per
 // hit, not per test).
-using LeafSurface = scene::PrimitiveTypes::map<SurfaceOf>::apply<std::variant>;
+// A mesh's leaf names its CompiledMesh; the triangle comes with the hit.
+struct MeshSurface {
+    std::uint32_t mesh;
+};
+using LeafSurface = scene::PrimitiveTypes::map<SurfaceOf>::append<MeshSurface>::apply<std::variant>;
 
 struct Leaf {
     LeafSurface surface;
@@ -186,6 +208,8 @@ struct CompiledScene {
     // leaves, the unbounded ones last (bvh.file_order holds the file order).
     PrimitiveLists primitives;
     std::vector<CsgObject> csg_objects;
+    TriangleList triangles;  // found through the BVH where there is one, else each tested by every ray
+    std::vector<CompiledMesh> meshes;
     // With a BVH (its nodes not empty), the bounded primitives and CSG objects are found through it and only
     // the rest (planes, unbounded CSG objects) are tested by every ray.
     Bvh bvh;

@@ -21,6 +21,8 @@ enum class Mutant : int {
     box_slab_strict,                 // a box's span needs enter < exit, not ≤
     depth_limit_off_by_one,          // secondary rays traced while depth ≤ max_depth
     total_internal_reflection_lost,  // on total internal reflection the transmission is not reflected
+    triangle_edge_ties_ignored,      // an edge function of exactly 0 misses (strict > and <, no tie rule)
+    triangle_winding_flipped,        // a triangle's front is its clockwise side
 };
 
 #ifndef TWINRAY_MUTANT

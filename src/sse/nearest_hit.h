@@ -29,6 +29,7 @@ struct Nearest4 {
     vfloat4 t{infinity};
     vint4 leaf{-1};
     vint4 tag{0};
+    vint4 triangle{-1};  // a mesh's hit: the triangle's place in CompiledScene::triangles (else stale, unread)
 };
 
 // A primitive's first crossing after t = 0 is its enter if that lies ahead, else its exit. Smaller t
@@ -44,6 +45,39 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
     nearest.t = select(nearer, t, nearest.t);
     nearest.leaf = select(nearer, leaf, nearest.leaf);
     nearest.tag = select(nearer, tag, nearest.tag);
+}
+
+// A triangle's crossing, kept as keep_nearest keeps a primitive's: smaller t wins; at equal t the smaller
+// leaf, and within one mesh the smaller place, which is the smaller triangle index (TriangleList).
+inline void keep_nearest_triangle(Nearest4& nearest, const TriangleHit4& crossing, std::int32_t leaf_id,
+                                  std::int32_t place) {
+    vint4 leaf(leaf_id);
+    vint4 triangle(place);
+    vbool4 same_leaf = leaf == nearest.leaf;
+    vbool4 earlier_leaf = mutated<Mutant::ties_to_later_object> ? nearest.leaf < leaf : leaf < nearest.leaf;
+    vbool4 earlier = earlier_leaf | (same_leaf & (triangle < nearest.triangle));
+    vbool4 nearer = crossing.valid & ((crossing.t < nearest.t) | ((crossing.t == nearest.t) & earlier));
+    nearest.t = select(nearer, crossing.t, nearest.t);
+    nearest.leaf = select(nearer, leaf, nearest.leaf);
+    nearest.tag = select(nearer, select(crossing.front, vint4(tag_entering), vint4(0)), nearest.tag);
+    nearest.triangle = select(nearer, triangle, nearest.triangle);
+}
+
+// Calls visit(triangle hit, place) for every triangle of the list some ray meets, in place order.
+template <typename P, typename Visit>
+void for_each_triangle_crossing(const TriangleList& triangles, const ShearedRays& rays, Visit&& visit) {
+    for (std::size_t i = 0; i < triangles.items.size(); ++i) {
+        TriangleHit4 crossing = crossing_of<P>(triangles.items[i], rays);
+        if (any(crossing.valid)) {
+            visit(crossing, static_cast<std::uint32_t>(i));
+        }
+    }
+}
+
+// The packet's frame for triangles, or an unused one where the scene has none.
+template <typename P>
+ShearedRays sheared_for(const CompiledScene& scene, const RayPacket& rays) {
+    return scene.triangles.items.empty() ? ShearedRays{} : ShearedRays::of<P>(rays);
 }
 
 // Calls visit(span, id, transmission, list) for every primitive of every type present that some ray meets
@@ -141,10 +175,13 @@ struct Hit4 {
     vbool4 hit;  // active lanes whose ray met a surface
     vfloat4 t;
     Vec3x4 point;   // re-projected onto the primitive's surface
-    Vec3x4 normal;  // unit, facing the ray
+    Vec3x4 normal;  // unit, facing the ray: the geometric normal, which decides sides and spawn offsets
     vint4 leaf;
+    vint4 triangle;  // on a mesh, the triangle's index in it; else -1
     vbool4 entering;
     vfloat4 spawn_offset;  // how far off the surface secondary rays start
+    // What shading uses: `normal`, or on a smooth mesh the interpolated normal turned to its side.
+    Vec3x4 shading_normal;
 };
 
 template <typename P>
@@ -165,6 +202,10 @@ public:
             keep_nearest(nearest, span, leaf);
         };
         for_each_span<P>(candidates, rays, keep);
+        const ShearedRays sheared = sheared_for<P>(scene_, rays);
+        auto keep_triangle = [&](const TriangleHit4& crossing, std::uint32_t place) {
+            keep_nearest_triangle(nearest, crossing, scene_.triangles.leaf[place], static_cast<std::int32_t>(place));
+        };
         CsgCandidates csg;
         if (!scene_.bvh.empty()) {
             auto keep_and_fetch = [&](const Span4& span, std::int32_t leaf, float transmission, std::uint32_t list) {
@@ -173,8 +214,11 @@ public:
             };
             csg.collect();
             vbool4 lanes = rays.active;
-            for_each_leaf_met(scene_.bvh, BvhRays(rays), lanes, nearest.t,
-                              [&](BvhLeaf leaf) { for_each_span_in_leaf<P>(scene_, leaf, rays, csg, keep_and_fetch); });
+            for_each_leaf_met(scene_.bvh, BvhRays(rays), lanes, nearest.t, [&](BvhLeaf leaf) {
+                for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, keep_and_fetch, keep_triangle);
+            });
+        } else {
+            for_each_triangle_crossing<P>(scene_.triangles, sheared, keep_triangle);
         }
         if (!scene_.csg_objects.empty()) {
             nearest_csg_crossings(rays, nearest, csg);
@@ -252,14 +296,51 @@ private:
         bool flipped = (tag & tag_flipped) != 0;
         std::visit(
             [&](const auto& surface) {
-                out.outward = outward_normal(surface, face, point, out.needs_normalizing);
-                out.anchor = surface_anchor(surface, face, flipped ? -1.0f : 1.0f, point);
+                if constexpr (!std::is_same_v<std::decay_t<decltype(surface)>, MeshSurface>) {
+                    out.outward = outward_normal(surface, face, point, out.needs_normalizing);
+                    out.anchor = surface_anchor(surface, face, flipped ? -1.0f : 1.0f, point);
+                }
             },
             leaf.surface);
         if (flipped) {
             out.outward = -out.outward;
         }
         return out;
+    }
+
+    // A triangle's surface at a hit: the unit normal of the side the ray met (its front where `front`), and
+    // its plane's projection (reference/triangle.h's surface_point, in float).
+    LaneSurface triangle_surface(std::uint32_t place, bool front, Vec3 point) const {
+        const TriangleRecord& triangle = scene_.triangles.items[place];
+        Vec3 normal = math::normalize(math::cross(triangle.b - triangle.a, triangle.c - triangle.a));
+        float longest =
+            std::fmax(math::length(triangle.b - triangle.a),
+                      std::fmax(math::length(triangle.c - triangle.b), math::length(triangle.a - triangle.c)));
+        math::SurfaceBounds<float> bounds = scene::surface_bounds_of_triangle(longest);
+        LaneSurface out;
+        out.outward = front ? normal : -normal;
+        out.anchor = {point + math::dot(triangle.a - point, normal) * normal, 0.0f,
+                      bounds.own_rounding.at(math::max_abs_component(point)), bounds.spawn_offset};
+        return out;
+    }
+
+    // reference/triangle.h's shading_normal, in float: the vertex normals weighted by the sub-triangles' areas
+    // at `point`, turned to `facing`; `facing` where they cancel.
+    Vec3 smooth_normal(const CompiledMesh& mesh, std::uint32_t place, Vec3 point, Vec3 facing) const {
+        const TriangleRecord& t = scene_.triangles.items[place];
+        const std::array<std::uint32_t, 3>& corners = mesh.corners[scene_.triangles.triangle[place]];
+        Vec3 n = math::cross(t.b - t.a, t.c - t.a);
+        float area = math::dot(n, n);
+        float weight_a = math::dot(n, math::cross(t.c - t.b, point - t.b)) / area;
+        float weight_b = math::dot(n, math::cross(t.a - t.c, point - t.c)) / area;
+        float weight_c = 1.0f - weight_a - weight_b;
+        Vec3 interpolated = weight_a * mesh.normals[corners[0]] + weight_b * mesh.normals[corners[1]] +
+                            weight_c * mesh.normals[corners[2]];
+        if (!(math::dot(interpolated, interpolated) > 0.0f)) {
+            return facing;
+        }
+        Vec3 unit = math::normalize(interpolated);
+        return math::dot(unit, facing) < 0.0f ? -unit : unit;
     }
 
     Hit4 finish(const RayPacket& rays, const Nearest4& nearest) const {
@@ -276,18 +357,29 @@ private:
             _mm_castsi128_ps(_mm_cmpeq_epi32((nearest.tag & vint4(tag_entering)).m, vint4(tag_entering).m))};
         alignas(16) float point[3][4], normal[3][4], anchor[3][4], radius[4], own_rounding[4], size_bound[4],
             point_factor[4];
-        alignas(16) std::int32_t leaf[4], tag[4], curved[4];
+        alignas(16) std::int32_t leaf[4], tag[4], curved[4], place[4], triangle[4] = {-1, -1, -1, -1};
         for (int axis = 0; axis < 3; ++axis) {
             hit.point[axis].store(point[axis]);
         }
         nearest.leaf.store(leaf);
         nearest.tag.store(tag);
+        nearest.triangle.store(place);
         int lanes = movemask(hit.hit);
+        const CompiledMesh* smooth[4] = {};
         for (int lane = 0; lane < 4; ++lane) {
             LaneSurface surface;
             if ((lanes >> lane) & 1) {
                 const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
-                surface = lane_surface(info, tag[lane], {point[0][lane], point[1][lane], point[2][lane]});
+                Vec3 lane_point{point[0][lane], point[1][lane], point[2][lane]};
+                if (const auto* mesh = std::get_if<MeshSurface>(&info.surface)) {
+                    auto at = static_cast<std::uint32_t>(place[lane]);
+                    surface = triangle_surface(at, (tag[lane] & tag_entering) != 0, lane_point);
+                    triangle[lane] = static_cast<std::int32_t>(scene_.triangles.triangle[at]);
+                    const CompiledMesh& compiled = scene_.meshes[mesh->mesh];
+                    smooth[lane] = compiled.normals.empty() ? nullptr : &compiled;
+                } else {
+                    surface = lane_surface(info, tag[lane], lane_point);
+                }
             }
             for (int axis = 0; axis < 3; ++axis) {
                 normal[axis][lane] = surface.outward[axis];
@@ -321,6 +413,26 @@ private:
         }
         vbool4 facing_away = dot<P>(outward, direction) > vfloat4(0.0f);
         hit.normal = select(mutated<Mutant::normal_faces_away> ? !facing_away : facing_away, -outward, outward);
+        hit.triangle = vint4::load(triangle);
+        hit.shading_normal = hit.normal;
+        if (smooth[0] != nullptr || smooth[1] != nullptr || smooth[2] != nullptr || smooth[3] != nullptr) {
+            alignas(16) float shading[3][4];
+            for (int axis = 0; axis < 3; ++axis) {
+                hit.normal[axis].store(shading[axis]);
+                hit.point[axis].store(point[axis]);
+            }
+            for (int lane = 0; lane < 4; ++lane) {
+                if (smooth[lane] != nullptr) {
+                    Vec3 turned = smooth_normal(*smooth[lane], static_cast<std::uint32_t>(place[lane]),
+                                                {point[0][lane], point[1][lane], point[2][lane]},
+                                                {shading[0][lane], shading[1][lane], shading[2][lane]});
+                    for (int axis = 0; axis < 3; ++axis) {
+                        shading[axis][lane] = turned[axis];
+                    }
+                }
+            }
+            hit.shading_normal = {vfloat4::load(shading[0]), vfloat4::load(shading[1]), vfloat4::load(shading[2])};
+        }
         return hit;
     }
 

@@ -143,11 +143,12 @@ private:
         vfloat4 zero(0.0f);
         const Vec3x4& direction = rays.direction;
         Vec3x4 color = m.ambient * (m.color * broadcast(scene_.ambient_light));
-        Vec3x4 mirror = direction - (vfloat4(2.0f) * dot<P>(direction, hit.normal)) * hit.normal;
+        const Vec3x4& shading = hit.shading_normal;
+        Vec3x4 mirror = direction - (vfloat4(2.0f) * dot<P>(direction, shading)) * shading;
         vbool4 has_phong = hit.hit & (m.phong > zero);
         for (const Light& light : scene_.lights) {
             Vec3x4 to_light = normalize<P>(broadcast(light.position) - hit.point);
-            vfloat4 lambert = dot<P>(hit.normal, to_light);
+            vfloat4 lambert = dot<P>(shading, to_light);
             vbool4 lit = hit.hit & (lambert > zero);
             if (none(lit)) {
                 if (tree != nullptr) {
@@ -191,7 +192,7 @@ private:
         if (scene_.any_transparency && any(transparent)) {
             vfloat4 eta = mutated<Mutant::snell_ratio_inverted> ? select(hit.entering, m.ior, reciprocal<P>(m.ior))
                                                                 : select(hit.entering, reciprocal<P>(m.ior), m.ior);
-            vfloat4 cos_incident = -dot<P>(direction, hit.normal);
+            vfloat4 cos_incident = -dot<P>(direction, shading);
             vfloat4 sin2_transmitted = eta * eta * (vfloat4(1.0f) - cos_incident * cos_incident);
             total_internal = transparent & (sin2_transmitted > vfloat4(1.0f));
             if constexpr (!mutated<Mutant::total_internal_reflection_lost>) {
@@ -204,7 +205,7 @@ private:
                 RayKind::refracted, node, children);
             if (any(refracting)) {
                 vfloat4 cos_transmitted = sqrt(max(vfloat4(1.0f) - sin2_transmitted, zero));
-                Vec3x4 refracted = normalize<P>(eta * direction + (eta * cos_incident - cos_transmitted) * hit.normal);
+                Vec3x4 refracted = normalize<P>(eta * direction + (eta * cos_incident - cos_transmitted) * shading);
                 color = color + select(refracting, m.transmission, zero) * trace_secondary(hit, refracted, refracting,
                                                                                            children, depth, walk,
                                                                                            RayKind::refracted, node);

@@ -9,8 +9,8 @@
 
 namespace twinray::sse {
 
-// The crossings of a packet's shadow rays through primitives found in any order (through the BVH), to be
-// multiplied in brute force's order, (type list, id): float multiplication is not associative, and this keeps
+// The crossings of a packet's shadow rays through primitives and triangles found in any order (through the
+// BVH), to be multiplied in brute force's order, (type list, id), triangles last in place order: float multiplication is not associative, and this keeps
 // the product the same bit for bit. A primitive no lane crosses would multiply by exactly 1, so it is left
 // out. Past `capacity` crossings (no heap allocation per ray) the caller falls back to brute force.
 class TransmissionFactors {
@@ -88,6 +88,9 @@ public:
             enter_between = span.valid & (span.enter > zero) & (span.enter < distance);
             exit_between = span.valid & (span.exit > zero) & (span.exit < distance);
         };
+        const ShearedRays sheared = sheared_for<P>(scene_, rays);
+        // A triangle is crossed once, at t > 0 (crossing_of): it counts where that is before the light.
+        auto triangle_between = [&](const TriangleHit4& crossing) { return crossing.valid & (crossing.t < distance); };
         CsgCandidates csg;
         if (!scene_.any_transparency) {
             auto block = [&](const Span4& span, std::int32_t, float, std::uint32_t) {
@@ -98,11 +101,17 @@ public:
                 crossings_between(span, enter_between, exit_between);
                 open = open & !(enter_between | exit_between);
             };
+            auto block_triangle = [&](const TriangleHit4& crossing, std::uint32_t) {
+                open = open & !triangle_between(crossing);
+            };
             for_each_span<P>(scene_.flat(), rays, block);
             if (!scene_.bvh.empty() && any(open)) {
                 csg.collect();
-                for_each_leaf_met(scene_.bvh, BvhRays(rays), open, distance,
-                                  [&](BvhLeaf leaf) { for_each_span_in_leaf<P>(scene_, leaf, rays, csg, block); });
+                for_each_leaf_met(scene_.bvh, BvhRays(rays), open, distance, [&](BvhLeaf leaf) {
+                    for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle);
+                });
+            } else if (scene_.bvh.empty() && any(open)) {
+                for_each_triangle_crossing<P>(scene_.triangles, sheared, block_triangle);
             }
         } else {
             auto multiply = [&](vbool4 enter_between, vbool4 exit_between, float transmission) {
@@ -120,11 +129,19 @@ public:
                         factors.add({list, id, enter_between, exit_between, transmission});
                     }
                 };
+                auto record_triangle = [&](const TriangleHit4& crossing, std::uint32_t place) {
+                    vbool4 between = triangle_between(crossing);
+                    if (any(between)) {
+                        factors.add({triangle_list, static_cast<std::int32_t>(place), between, none_true(),
+                                     material_transmission(scene_.triangles.leaf[place])});
+                    }
+                };
                 for_each_span<P>(scene_.flat(), rays, record);
                 csg.collect();
                 vbool4 all_lanes = lanes;
-                for_each_leaf_met(scene_.bvh, BvhRays(rays), all_lanes, distance,
-                                  [&](BvhLeaf leaf) { for_each_span_in_leaf<P>(scene_, leaf, rays, csg, record); });
+                for_each_leaf_met(scene_.bvh, BvhRays(rays), all_lanes, distance, [&](BvhLeaf leaf) {
+                    for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, record, record_triangle);
+                });
                 if (!factors.overflowed()) {
                     factors.for_each_in_list_order([&](const TransmissionFactors::Factor& factor) {
                         multiply(factor.enter_between, factor.exit_between, factor.transmission);
@@ -141,6 +158,11 @@ public:
                                                    crossings_between(span, enter_between, exit_between);
                                                    multiply(enter_between, exit_between, transmission);
                                                });
+                for_each_triangle_crossing<P>(scene_.triangles, sheared,
+                                              [&](const TriangleHit4& crossing, std::uint32_t place) {
+                                                  multiply(triangle_between(crossing), none_true(),
+                                                           material_transmission(scene_.triangles.leaf[place]));
+                                              });
             }
             open = open & (transmittance > zero);
         }

@@ -138,6 +138,9 @@ std::optional<Hit> Tracer::intersect(const Ray& world_ray) const {
     alignas(16) std::int32_t leaf[4];
     hit4.leaf.store(leaf);
     hit.leaf = leaf[0];
+    hit4.triangle.store(leaf);
+    hit.triangle = leaf[0];
+    hit.shading_normal = lane(hit4.shading_normal, 0);
     hit.entering = (movemask(hit4.entering) & 1) != 0;
     hit.spawn_offset = hit4.spawn_offset.lane(0);
     return hit;
@@ -159,6 +162,35 @@ Color Tracer::trace(const Ray& world_ray, int depth, TraceTally* tally, RayTree*
         tally->add_pixel(walk.rays, walk.ledgers[0].dropped, walk.ledgers[0].over_budget);
     }
     return lane(color, 0);
+}
+
+int Tracer::mesh_crossings(const Ray& world_ray, float distance) const {
+    RelativeRay ray = relative_to(*scene_, world_ray);
+    if (!math::is_traceable(ray.origin, ray.direction)) {
+        return 0;
+    }
+    ScopedFlushDenormals denormals(precision_.flush_denormals);
+    return with_precision_policy(precision_, [&](auto policy) {
+        using P = decltype(policy);
+        const CompiledScene& scene = *scene_;
+        RayPacket rays = single_ray_packet(ray);
+        ShearedRays sheared = ShearedRays::of<P>(rays);
+        int count = 0;
+        auto count_lane_0 = [&](const TriangleHit4& crossing, std::uint32_t) {
+            count += (movemask(crossing.valid & (crossing.t < vfloat4(distance))) & 1);
+        };
+        if (scene.bvh.empty()) {
+            for_each_triangle_crossing<P>(scene.triangles, sheared, count_lane_0);
+            return count;
+        }
+        CsgCandidates csg;
+        vbool4 lanes = rays.active;
+        for_each_leaf_met(scene.bvh, BvhRays(rays), lanes, vfloat4(distance), [&](BvhLeaf leaf) {
+            for_each_span_in_leaf<P>(
+                scene, leaf, rays, sheared, csg, [](const Span4&, std::int32_t, float, std::uint32_t) {}, count_lane_0);
+        });
+        return count;
+    });
 }
 
 Ray Tracer::primary_ray(int x, int y, int width, int height) const {

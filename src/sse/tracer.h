@@ -31,11 +31,13 @@ struct Ray {
 
 struct Hit {
     float t = 0;
-    Vec3d point;    // re-projected onto the primitive's surface; world coordinates (origin_of + float point)
-    Vec3 normal;    // unit, facing the ray
-    int leaf = -1;  // the primitive hit (Scene::leaf_paths)
-    bool entering = false;
+    Vec3d point;             // re-projected onto the primitive's surface; world coordinates (origin_of + float point)
+    Vec3 normal;             // unit, facing the ray
+    int leaf = -1;           // the primitive hit (Scene::leaf_paths)
+    int triangle = -1;       // for a mesh, the triangle's index in it
+    bool entering = false;   // enters the solid; on a mesh, meets a triangle's front
     float spawn_offset = 0;  // how far off the surface secondary rays start
+    Vec3 shading_normal;     // `normal`, or on a smooth mesh the interpolated normal turned to its side
 };
 
 // The speed/accuracy knobs (docs/performance.md). The default is the exact tracer; each knob trades
@@ -96,6 +98,10 @@ public:
     // rays left out (twinray probe); the colour is the same with or without it.
     Color trace(const Ray& ray, int depth, TraceTally* tally = nullptr, RayTree* tree = nullptr) const;
     Ray primary_ray(int x, int y, int width, int height) const;
+
+    // How many mesh triangles the ray crosses with t in (0, distance), through the BVH where there is one
+    // (accuracy/watertight.h).
+    int mesh_crossings(const Ray& ray, float distance) const;
 
     const CompiledScene& compiled() const { return *scene_; }
     BvhStats bvh_stats() const;

@@ -12,6 +12,7 @@
 #include "sse/tracer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -186,6 +187,9 @@ private:
             }
             return children.front();
         }
+        if (kind == 7 && level == 1 && leaves_left >= 2) {
+            return mesh(leaves_left, own_material);
+        }
         --leaves_left;
         scene::Vec3 at = in_.point();
         anchors_.push_back(at);
@@ -206,6 +210,38 @@ private:
             axis = {0, in_.length(), 0};
         }
         return test::json::cylinder(at, at + axis, in_.length(), own_material);
+    }
+
+    // A fan of 2 to 9 triangles sharing their centre and spokes (closed when its rim comes back), its
+    // vertices and the spokes' midpoints anchors for rays: ties on shared edges and vertices, and a mesh's
+    // triangles in the BVH among other primitives.
+    std::string mesh(int& leaves_left, const std::string& own_material) {
+        int triangles = std::min(leaves_left, 2 + in_.byte() % 8);
+        bool closed = in_.byte() % 2 == 0 && triangles >= 3;
+        int rim = closed ? triangles : triangles + 1;
+        std::vector<scene::Vec3> vertices{in_.point()};
+        for (int i = 0; i < rim; ++i) {
+            vertices.push_back(in_.point());
+        }
+        std::vector<std::array<int, 3>> faces;
+        for (int i = 0; i < triangles; ++i) {
+            faces.push_back({0, 1 + i, 1 + (i + 1) % rim});
+        }
+        leaves_left -= triangles;
+        for (std::size_t i = 0; i < vertices.size(); ++i) {
+            anchors_.push_back(vertices[i]);
+            anchors_.push_back(0.5 * (vertices[0] + vertices[i]));
+        }
+        std::string text = R"({"type": "mesh", "vertices": [)";
+        for (std::size_t i = 0; i < vertices.size(); ++i) {
+            text += (i == 0 ? "" : ", ") + test::json::vec3(vertices[i]);
+        }
+        text += R"(], "triangles": [)";
+        for (std::size_t i = 0; i < faces.size(); ++i) {
+            text += (i == 0 ? "[" : ", [") + std::to_string(faces[i][0]) + ", " + std::to_string(faces[i][1]) + ", " +
+                    std::to_string(faces[i][2]) + "]";
+        }
+        return text + "]" + test::json::material_key(own_material) + "}";
     }
 
     ByteReader in_;
@@ -256,6 +292,7 @@ void compare_hits(const std::optional<Hit>& brute, const std::optional<Hit>& bvh
     out.equal(brute.has_value(), bvh.has_value(), "hit or miss");
     if (brute && bvh) {
         out.equal(brute->leaf, bvh->leaf, "object hit (leaf)");
+        out.equal(brute->triangle, bvh->triangle, "triangle hit");
         out.bits(brute->t, bvh->t, "t");
         out.bits(brute->normal, bvh->normal, "normal");
         out.bits(brute->point, bvh->point, "point");

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 namespace {
 
@@ -67,6 +68,32 @@ int check_object(const Scene& scene, const Object& object, int depth, int& next_
     return 1;
 }
 
+// A mesh the tracers can index blindly: every index in range, finite vertices, one unit normal per vertex
+// where it shades smooth, degenerate triangles listed once, ascending, and truly degenerate.
+void check_mesh(const Scene& scene, const Mesh& mesh) {
+    expect(mesh.material >= 0 && static_cast<std::size_t>(mesh.material) < scene.materials.size(),
+           "a mesh's material index is in range");
+    const MeshData& data = *mesh.data;
+    expect(!data.triangles.empty(), "a mesh has a triangle");
+    for (const Vec3& vertex : data.vertices) {
+        expect(finite(vertex), "mesh vertices are finite");
+    }
+    for (const auto& triangle : data.triangles) {
+        for (std::uint32_t index : triangle) {
+            expect(index < data.vertices.size(), "triangle indices are in range");
+        }
+    }
+    expect(!data.smooth || data.normals.size() == data.vertices.size(), "a smooth mesh has a normal per vertex");
+    for (const Vec3& normal : data.normals) {
+        double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+        expect(finite(normal) && (length == 0 || std::abs(length - 1.0) < 1e-12), "mesh normals are unit or zero");
+    }
+    for (std::size_t i = 0; i < data.degenerate.size(); ++i) {
+        expect(data.degenerate[i] < data.triangles.size(), "degenerate triangles are in range");
+        expect(i == 0 || data.degenerate[i - 1] < data.degenerate[i], "degenerate triangles are ascending");
+    }
+}
+
 void check_accepted(const Scene& scene) {
     expect(scene.width >= 1 && scene.width <= max_image_side, "image width in range");
     expect(scene.height >= 1 && scene.height <= max_image_side, "image height in range");
@@ -91,14 +118,30 @@ void check_accepted(const Scene& scene) {
     for (const Light& light : scene.lights) {
         expect(finite(light.position) && finite(light.color) && non_negative(light.color), "light is finite");
     }
+    // Meshes take leaf numbers among the objects': counted here by the numbers they take.
+    std::vector<bool> mesh_leaf(scene.leaf_paths.size(), false);
+    for (const Mesh& mesh : scene.meshes) {
+        expect(mesh.leaf >= 0 && static_cast<std::size_t>(mesh.leaf) < scene.leaf_paths.size(), "mesh leaf in range");
+        mesh_leaf[static_cast<std::size_t>(mesh.leaf)] = true;
+        check_mesh(scene, mesh);
+    }
     int next_leaf = 0;
+    auto skip_meshes = [&] {
+        while (static_cast<std::size_t>(next_leaf) < mesh_leaf.size() &&
+               mesh_leaf[static_cast<std::size_t>(next_leaf)]) {
+            ++next_leaf;
+        }
+    };
     for (const Object& object : scene.objects) {
+        skip_meshes();
         int leaves = check_object(scene, object, 1, next_leaf);
         if (std::holds_alternative<Csg>(object.shape)) {
             expect(leaves <= max_csg_leaves, "a top-level CSG object holds at most 64 primitives");
         }
     }
+    skip_meshes();
     expect(static_cast<std::size_t>(next_leaf) == scene.leaf_paths.size(), "one path per leaf");
+    expect(scene.primitive_count() <= max_scene_primitives, "at most the primitive limit");
     expect(scene.leaf_paths.size() == scene.leaf_materials.size(), "one material per leaf");
     for (int material : scene.leaf_materials) {
         expect(material >= 0 && static_cast<std::size_t>(material) < scene.materials.size(),

@@ -1,4 +1,4 @@
-#include "cli/scene_text_writer.h"
+#include "cli/generate/scene_text_writer.h"
 
 #include <charconv>
 #include <cmath>
@@ -148,7 +148,13 @@ void SceneTextWriter::end_object(int material) {
     material_key(material);
     text_ += '}';
     // Whole top-level objects only reach the sink, so a piece never ends inside a CSG node's text.
-    if (list_has_elements_.size() == 1 && text_.size() >= piece_bytes) {
+    if (list_has_elements_.size() == 1) {
+        flush_if_full();
+    }
+}
+
+void SceneTextWriter::flush_if_full() {
+    if (text_.size() >= piece_bytes) {
         sink_(text_);
         text_.clear();
     }
@@ -193,6 +199,73 @@ void SceneTextWriter::box(Vec3 min, Vec3 max, int material) {
     text_ += ", \"max\": ";
     vector(max);
     ++primitives_;
+    end_object(material);
+}
+
+void SceneTextWriter::begin_mesh_list(std::string_view name) {
+    text_ += ", ";
+    key(name);
+    text_ += '[';
+}
+
+// A mesh's lists may be tens of mebibytes: a piece may end between two of their elements.
+void SceneTextWriter::next_mesh_list_element(std::int64_t& count) {
+    flush_if_full();
+    text_ += count == 0 ? "\n      " : ",\n      ";
+    ++count;
+}
+
+void SceneTextWriter::end_mesh_list(std::int64_t count) {
+    text_ += count == 0 ? "]" : "\n    ]";
+}
+
+void SceneTextWriter::mesh(const MeshLists& lists, int material) {
+    if (list_has_elements_.size() != 1) {
+        throw std::logic_error("SceneTextWriter::mesh inside a CSG node");
+    }
+    begin_object("mesh");
+    std::int64_t vertices = 0;
+    begin_mesh_list("vertices");
+    lists.vertices([&](Vec3 vertex) {
+        next_mesh_list_element(vertices);
+        vector(vertex);
+    });
+    end_mesh_list(vertices);
+    std::int64_t triangles = 0;
+    begin_mesh_list("triangles");
+    lists.triangles([&](int a, int b, int c) {
+        for (int index : {a, b, c}) {
+            if (index < 0 || index >= vertices) {
+                throw std::logic_error("generated triangle names vertex " + std::to_string(index) + " of " +
+                                       std::to_string(vertices));
+            }
+        }
+        next_mesh_list_element(triangles);
+        text_ += '[';
+        integer(a);
+        text_ += ", ";
+        integer(b);
+        text_ += ", ";
+        integer(c);
+        text_ += ']';
+    });
+    end_mesh_list(triangles);
+    if (lists.normals) {
+        std::int64_t normals = 0;
+        begin_mesh_list("normals");
+        lists.normals([&](Vec3 normal) {
+            next_mesh_list_element(normals);
+            vector(normal);
+        });
+        end_mesh_list(normals);
+        if (normals != vertices) {
+            throw std::logic_error("generated mesh has " + std::to_string(normals) + " normals for " +
+                                   std::to_string(vertices) + " vertices");
+        }
+        text_ += ", \"smooth\": true";
+    }
+    ++primitives_;
+    triangles_ += triangles;
     end_object(material);
 }
 

@@ -19,6 +19,18 @@ using Vec3 = scene::Vec3;
 // Receives the text in order, in pieces of about a mebibyte.
 using TextSink = std::function<void(std::string_view)>;
 
+// A mesh's lists, each written by the function it is given being called once per element, in order, so
+// that a mesh of a million triangles streams like any other object instead of being held first.
+using PointEmitter = std::function<void(Vec3)>;
+using TriangleEmitter = std::function<void(int, int, int)>;
+struct MeshLists {
+    std::function<void(const PointEmitter&)> vertices;
+    // Indices into the vertices, counter-clockwise seen from the front.
+    std::function<void(const TriangleEmitter&)> triangles;
+    // One unit normal per vertex, in the vertices' order, for a smooth mesh; empty for a flat one.
+    std::function<void(const PointEmitter&)> normals;
+};
+
 class SceneTextWriter {
 public:
     // Coordinates and sizes are rounded to multiples of 10^-decimals (0..9): choose it so that the
@@ -36,17 +48,25 @@ public:
     void sphere(Vec3 center, double radius, int material = 0);
     void cylinder(Vec3 base, Vec3 cap, double radius, int material = 0);
     void box(Vec3 min, Vec3 max, int material = 0);
+    // One leaf, at the top level only (a mesh is never a CSG child), one list element per line. Normals are
+    // put on the coordinates' grid too, so their lengths are within a grid step of 1.
+    void mesh(const MeshLists& lists, int material);
     // A union, intersection or difference: its children are the objects written until end_csg().
     void begin_csg(std::string_view operation, int material);
     void end_csg();
 
-    // Primitives (leaves) written so far.
+    // Primitives (leaves, a mesh one of them) and triangles of meshes written so far.
     std::int64_t primitives() const { return primitives_; }
+    std::int64_t triangles() const { return triangles_; }
 
 private:
     void begin_object(std::string_view type);
     void material_key(int material);
     void end_object(int material);
+    void flush_if_full();
+    void begin_mesh_list(std::string_view name);
+    void next_mesh_list_element(std::int64_t& count);
+    void end_mesh_list(std::int64_t count);
     void number(double value);
     void vector(Vec3 value);
     void integer(int value);
@@ -60,6 +80,7 @@ private:
     // an element has been written to it, so the next one starts with a comma.
     std::vector<bool> list_has_elements_;
     std::int64_t primitives_ = 0;
+    std::int64_t triangles_ = 0;
 };
 
 }  // namespace twinray::cli

@@ -1,0 +1,60 @@
+// Triangle meshes from OBJ, PLY and STL files (ASCII and binary), read in a process of their own
+// (twinray_mesh_reader, through the mesh library module: meshio/library.h), so that a library that crashes,
+// aborts or hangs on a file costs an error message naming the file, never twinray; twinray itself maps no
+// mesh library and parses no mesh file's bytes. Which library reads what, and in which precision:
+// docs/performance.md, "Mesh files: the library".
+#pragma once
+
+#include "scene/scene.h"
+
+#include <chrono>
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace twinray::scene {
+
+struct MeshFileResult {
+    MeshData mesh;
+    std::vector<std::string> warnings;  // what the file has that is not used: materials, colours, texture coordinates
+};
+
+// The process that reads the file, and how long it may take before it is stopped.
+struct MeshReader {
+    std::filesystem::path program = default_program();
+    std::chrono::milliseconds time_limit{60'000};
+
+    static std::filesystem::path default_program();
+};
+
+// The file's format by its extension (.obj, .ply, .stl, any case). All of its groups, objects and solids make
+// one mesh: polygons triangulated by ear clipping (meshio/polygon.h: a convex polygon gives the fan from its
+// first corner), triangles in file order, degenerate ones kept and listed (those with a repeated index; three
+// collinear vertices are left to the caller). Vertices: OBJ's and PLY's as the file numbers them, STL's welded
+// by bit-identical coordinates. Normals, when the file gives every vertex one (OBJ's vn on every face corner,
+// PLY's nx ny nz): normalised, one per vertex (an OBJ vertex given with several normals is split, the copies
+// appended), and `smooth` set; STL's facet normals are not read. Throws SceneError (file, location such as
+// "line 12" or "face[3]", problem) for an unreadable file, an unknown extension, a malformed or truncated
+// file, no triangles, a coordinate that is not finite, an index out of range, more than `max_triangles`
+// triangles (at most max_scene_primitives: larger is not honoured; PLY and binary STL are refused from their
+// header, before anything is read) or more than three vertices per triangle of that limit, and when the
+// reader crashes, fails or runs out of time.
+MeshFileResult read_mesh_file(const std::filesystem::path& file, std::size_t max_triangles);
+MeshFileResult read_mesh_file(const std::filesystem::path& file, std::size_t max_triangles, const MeshReader& reader);
+
+// Edges are vertex pairs after welding vertices at bit-identical positions (so that an OBJ or PLY file with a
+// vertex repeated per face, as STL always has, is judged by its shape); degenerate triangles are left out.
+struct MeshTopology {
+    std::size_t boundary_edges = 0;              // used by one triangle
+    std::size_t non_manifold_edges = 0;          // used by three or more
+    std::size_t inconsistently_wound_edges = 0;  // used by two that run along it the same way
+
+    // Watertight and consistently wound: every edge is shared by exactly two triangles, in opposite directions
+    // (what "inside" needs: a ray enters at a front and leaves at a back).
+    bool closed() const { return boundary_edges == 0 && non_manifold_edges == 0 && inconsistently_wound_edges == 0; }
+};
+
+MeshTopology topology_of(const MeshData& mesh);
+
+}  // namespace twinray::scene

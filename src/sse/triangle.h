@@ -1,0 +1,133 @@
+// Triangles of a mesh against four rays: the watertight test of Woop, Benthin and Wald (JCGT 2013). Mirrors
+// reference/triangle.h section by section: the record and its construction, the crossing, the surface at a
+// hit. The reference decides hit or miss exactly; here each ray is carried into a frame where it is the +z
+// axis (translate, permute, shear), every vertex once per ray, so that two triangles sharing an edge compute
+// its edge function from the same two float vertices and get it bit for bit with the opposite sign: no ray
+// passes between them, and none hits both.
+#pragma once
+
+#include "scene/geometry.h"
+#include "sse/mutation.h"
+#include "sse/span4.h"
+
+#include <array>
+#include <cstdint>
+
+namespace twinray::sse {
+
+// The three vertices in float, relative to the compiled scene's origin (36 bytes): a BVH leaf's triangles
+// are tested without an index lookup. A vertex shared by several triangles is the same float in each.
+struct TriangleRecord {
+    Vec3 a, b, c;
+};
+
+inline TriangleRecord make_triangle(const scene::MeshData& mesh, const std::array<std::uint32_t, 3>& triangle) {
+    return {Vec3(mesh.vertices[triangle[0]]), Vec3(mesh.vertices[triangle[1]]), Vec3(mesh.vertices[triangle[2]])};
+}
+
+// What the test needs of each ray, once per packet: its origin, the axis kz of its direction's largest
+// |component| (then kx, ky follow cyclically, a right-handed frame) and the shear that makes the direction
+// (0, 0, 1): x' = x_kx − Sx·x_kz, y' = x_ky − Sy·x_kz, z' = Sz·x_kz.
+struct ShearedRays {
+    Vec3x4 origin;
+    vbool4 kz_is_x, kz_is_y;  // else z
+    vfloat4 shear_x, shear_y, shear_z;
+    vbool4 towards_positive_kz;  // d_kz > 0: the frame's +z is the ray's direction, not its reverse
+
+    // A packet's frame: one division per packet, made only for scenes with triangles.
+    template <typename P>
+    static ShearedRays of(const RayPacket& rays) {
+        ShearedRays out;
+        out.origin = rays.origin;
+        Vec3x4 size = abs(rays.direction);
+        out.kz_is_x = (size.x >= size.y) & (size.x >= size.z);
+        out.kz_is_y = !out.kz_is_x & (size.y >= size.z);
+        Vec3x4 d = out.permute(rays.direction);
+        vfloat4 inverse_z = divide<P>(vfloat4(1.0f), d.z);
+        out.shear_x = d.x * inverse_z;
+        out.shear_y = d.y * inverse_z;
+        out.shear_z = inverse_z;
+        out.towards_positive_kz = d.z > vfloat4(0.0f);
+        return out;
+    }
+
+    // (x_kx, x_ky, x_kz) per lane.
+    Vec3x4 permute(const Vec3x4& v) const {
+        return {select(kz_is_x, v.y, select(kz_is_y, v.z, v.x)), select(kz_is_x, v.z, select(kz_is_y, v.x, v.y)),
+                select(kz_is_x, v.x, select(kz_is_y, v.y, v.z))};
+    }
+
+    // A vertex in each ray's frame.
+    Vec3x4 transformed(Vec3 vertex) const {
+        Vec3x4 p = permute(broadcast(vertex) - origin);
+        return {p.x - shear_x * p.z, p.y - shear_y * p.z, shear_z * p.z};
+    }
+};
+
+// Per lane: whether the ray meets the triangle at t > 0, t, and whether it meets the front.
+struct TriangleHit4 {
+    vbool4 valid;
+    vfloat4 t;
+    vbool4 front;
+};
+
+// The edge function of edge p → q at the frame's origin (the ray), F = q_x·p_y − q_y·p_x, as Woop's U, V, W.
+// Where it is exactly 0 (the ray through the edge's line in float), its sign is that of the origin moved by
+// (ε, ε²): F + ε·(q_y − p_y) + ε²·(p_x − q_x). The same rule for every triangle is one consistent
+// perturbation of the ray, so an edge or a vertex hit exactly goes to exactly one of the triangles around
+// it; it depends on p and q alone and changes sign with them, so the neighbour across the edge sees the
+// opposite sign. Returned as two masks: positive, negative (both false: the edge is a point in the frame).
+struct EdgeSign {
+    vbool4 positive, negative;
+};
+
+inline EdgeSign edge_sign(vfloat4 value, const Vec3x4& p, const Vec3x4& q) {
+    vfloat4 zero(0.0f);
+    vbool4 on_line = value == zero;
+    vfloat4 first = q.y - p.y;
+    vfloat4 second = p.x - q.x;
+    vbool4 tie_positive = (first > zero) | ((first == zero) & (second > zero));
+    vbool4 tie_negative = (first < zero) | ((first == zero) & (second < zero));
+    return {(value > zero) | (on_line & tie_positive), (value < zero) | (on_line & tie_negative)};
+}
+
+// Hit where the three edge signs agree (both faces: no back-face culling); det = U + V + W is then of their
+// sign and non-zero. t = (U·a_z + V·b_z + W·c_z) / det, divided only once some lane hits. The ray meets the
+// front (counter-clockwise side) where det has the sign of d_kz: det is the sheared frame's signed area,
+// −(n·d)/d_kz with n = (b − a) × (c − a).
+template <typename P>
+TWINRAY_KERNEL TriangleHit4 crossing_of(const TriangleRecord& triangle, const ShearedRays& rays) {
+    Vec3x4 a = rays.transformed(triangle.a);
+    Vec3x4 b = rays.transformed(triangle.b);
+    Vec3x4 c = rays.transformed(triangle.c);
+    vfloat4 u = c.x * b.y - c.y * b.x;
+    vfloat4 v = a.x * c.y - a.y * c.x;
+    vfloat4 w = b.x * a.y - b.y * a.x;
+    vfloat4 zero(0.0f);
+    TriangleHit4 hit;
+    vbool4 all_positive = (u > zero) & (v > zero) & (w > zero);
+    vbool4 all_negative = (u < zero) & (v < zero) & (w < zero);
+    if constexpr (mutated<Mutant::triangle_edge_ties_ignored>) {
+        hit.valid = all_positive | all_negative;
+    } else {
+        vbool4 some_zero = (u == zero) | (v == zero) | (w == zero);
+        if (any(some_zero)) [[unlikely]] {
+            EdgeSign su = edge_sign(u, b, c), sv = edge_sign(v, c, a), sw = edge_sign(w, a, b);
+            all_positive = su.positive & sv.positive & sw.positive;
+            all_negative = su.negative & sv.negative & sw.negative;
+        }
+        hit.valid = all_positive | all_negative;
+    }
+    if (none(hit.valid)) {
+        return hit;
+    }
+    vfloat4 det = u + v + w;
+    vfloat4 scaled_t = u * a.z + v * b.z + w * c.z;
+    hit.t = divide<P>(scaled_t, det);
+    hit.valid = hit.valid & (hit.t > zero) & (abs(hit.t) < vfloat4(infinity));
+    vbool4 front = select_mask(all_positive, rays.towards_positive_kz, !rays.towards_positive_kz);
+    hit.front = mutated<Mutant::triangle_winding_flipped> ? !front : front;
+    return hit;
+}
+
+}  // namespace twinray::sse

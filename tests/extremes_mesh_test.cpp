@@ -1,0 +1,150 @@
+// Meshes at the extremes: slivers of aspect ratio 1e6, rays grazing a grid down to 1e-6 rad, and rays
+// lying in a triangle's plane, for the oracle and the exact SSE tracer. A ray that must cross the surface
+// once is counted by how many triangles each tracer reports along it (as the watertightness suite does).
+#include "reference/tracer.h"
+#include "scene/portable_random.h"
+#include "sse/cpu.h"
+#include "sse/tracer.h"
+#include "tests/scene_builder.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace scene = twinray::scene;
+namespace test = twinray::test;
+using V = scene::Vec3;
+
+// Crossings along (origin, unit direction) within `length`: the oracle's, then the exact SSE tracer's.
+struct Crossings {
+    int oracle, sse;
+};
+
+class MeshExtremes : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!twinray::sse::cpu_supports_sse41()) {
+            GTEST_SKIP() << twinray::sse::missing_sse41_message();
+        }
+    }
+
+    static scene::Scene scene_of(const scene::Mesh& mesh, V eye) {
+        test::SceneBuilder builder;
+        builder.add(mesh);
+        builder.scene().camera.eye = eye;
+        builder.scene().camera.look_at = eye + V{0, 0, -1};
+        return builder.build();
+    }
+};
+
+Crossings crossings(const twinray::reference::Tracer<double>& oracle, const twinray::sse::Tracer& tracer, V origin,
+                    V direction, double length) {
+    V unit = twinray::math::normalize(direction);
+    return {oracle.mesh_crossings({origin, unit}, length),
+            tracer.mesh_crossings({origin, twinray::sse::Vec3(unit)}, static_cast<float>(length))};
+}
+
+// A fan of 16 slivers around the origin, each 1 long and 1e-6 wide at its rim (aspect ratio 1e6): rays from
+// above at the shared spokes' points and at the centre cross it once.
+TEST_F(MeshExtremes, SliversOfAspectRatioAMillionStayWatertight) {
+    std::vector<V> vertices{{0, 0, 0}};
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    constexpr int slivers = 16;
+    const double width = 1e-6;
+    for (int i = 0; i <= slivers; ++i) {
+        double angle = width * i;
+        vertices.push_back({std::cos(angle), std::sin(angle), 0});
+    }
+    for (std::uint32_t i = 0; i < slivers; ++i) {
+        triangles.push_back({0, 1 + i, 2 + i});
+    }
+    scene::Scene scene = scene_of(test::mesh(vertices, triangles), {0.5, 0, 1});
+    twinray::reference::Tracer<double> oracle(scene);
+    twinray::sse::Tracer tracer(scene);
+    twinray::SplitMix64 random(7);
+    int oracle_failures = 0, sse_failures = 0, rays = 0;
+    for (int k = 0; k < 4000; ++k) {
+        // A point on an inner spoke (1..slivers-1), from above at a random tilt.
+        int spoke = 1 + static_cast<int>(random.next() % (slivers - 1));
+        V target = random.uniform(0.01, 0.99) * vertices[static_cast<std::size_t>(1 + spoke)];
+        V origin = target + V{random.uniform(-0.5, 0.5), random.uniform(-0.5, 0.5), 1};
+        Crossings c = crossings(oracle, tracer, origin, target - origin, 3);
+        ++rays;
+        oracle_failures += c.oracle != 1 ? 1 : 0;
+        sse_failures += c.sse != 1 ? 1 : 0;
+    }
+    EXPECT_EQ(oracle_failures, 0) << "of " << rays << " rays at the slivers' shared edges";
+    EXPECT_EQ(sse_failures, 0) << "of " << rays << " rays at the slivers' shared edges";
+}
+
+// An 8 × 8 grid of split squares in z = 0, rays from far to the side at 1e-2 to 1e-6 rad above its plane,
+// aimed at its inner vertices and edge midpoints: each crosses it once.
+TEST_F(MeshExtremes, GrazingRaysDownToAMicroradianCrossAGridOnce) {
+    std::vector<V> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    constexpr int cells = 8;
+    for (int j = 0; j <= cells; ++j) {
+        for (int i = 0; i <= cells; ++i) {
+            vertices.push_back({i - cells / 2.0, j - cells / 2.0, 0});
+        }
+    }
+    auto at = [](int i, int j) { return static_cast<std::uint32_t>(j * (cells + 1) + i); };
+    for (int j = 0; j < cells; ++j) {
+        for (int i = 0; i < cells; ++i) {
+            triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+            triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+        }
+    }
+    scene::Scene scene = scene_of(test::mesh(vertices, triangles), {0, 0, 1});
+    twinray::reference::Tracer<double> oracle(scene);
+    twinray::sse::Tracer tracer(scene);
+    twinray::SplitMix64 random(11);
+    int oracle_failures = 0, sse_failures = 0, rays = 0;
+    for (double angle : {1e-2, 1e-3, 1e-4, 1e-5, 1e-6}) {
+        for (int k = 0; k < 800; ++k) {
+            int i = 2 + static_cast<int>(random.next() % (2 * cells - 3));
+            int j = 2 + static_cast<int>(random.next() % (2 * cells - 3));
+            V target{0.5 * i - cells / 2.0, 0.5 * j - cells / 2.0, 0};
+            double azimuth = random.uniform(0, 2 * std::numbers::pi);
+            V towards{std::cos(azimuth) * std::cos(angle), std::sin(azimuth) * std::cos(angle), -std::sin(angle)};
+            V origin = target - 0.5 * towards;
+            Crossings c = crossings(oracle, tracer, origin, target - origin, 1);
+            ++rays;
+            oracle_failures += c.oracle != 1 ? 1 : 0;
+            sse_failures += c.sse != 1 ? 1 : 0;
+        }
+    }
+    EXPECT_EQ(oracle_failures, 0) << "of " << rays << " grazing rays";
+    EXPECT_EQ(sse_failures, 0) << "of " << rays << " grazing rays";
+}
+
+// A ray lying exactly in a triangle's plane (z = 0, its direction's z exactly 0) meets it along a segment,
+// not at a crossing: neither tracer reports it. The oracle's three edge signs sum to exactly 0; the SSE
+// tracer's frame puts every vertex on one line (one sheared coordinate exactly 0), so its edge functions are
+// exactly 0 and the tie rule's signs sum to 0 around the triangle.
+TEST_F(MeshExtremes, RaysExactlyInATrianglesPlaneAreNotCrossings) {
+    V a{0, 0, 0}, b{3, 0.4, 0}, c{0.7, 2, 0};
+    scene::Scene scene = scene_of(test::mesh({a, b, c}, {{{0, 1, 2}}}), {1, 1, 3});
+    twinray::reference::Tracer<double> oracle(scene);
+    twinray::sse::Tracer tracer(scene);
+    twinray::SplitMix64 random(13);
+    int oracle_hits = 0, sse_hits = 0, rays = 0;
+    for (int k = 0; k < 4000; ++k) {
+        V inside = a + random.uniform(0.05, 0.45) * (b - a) + random.uniform(0.05, 0.45) * (c - a);
+        double azimuth = random.uniform(0, 2 * std::numbers::pi);
+        V direction{std::cos(azimuth), std::sin(azimuth), 0};
+        Crossings crossed = crossings(oracle, tracer, inside - 5.0 * direction, direction, 20);
+        ++rays;
+        oracle_hits += crossed.oracle;
+        sse_hits += crossed.sse;
+    }
+    EXPECT_EQ(oracle_hits, 0) << "of " << rays << " rays in the plane";
+    EXPECT_EQ(sse_hits, 0) << "of " << rays << " rays in the plane";
+}
+
+}  // namespace

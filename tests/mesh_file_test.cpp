@@ -1,0 +1,519 @@
+// Mesh files (scene/mesh_file.h): each format read with its exact counts and coordinates, each refusal with its
+// message, the reader process's crash, abort and hang turned into errors, the topology report, and real files
+// from Debian's assimp-testmodels package.
+#include "scene/mesh_file.h"
+#include "scene/loader.h"
+
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace twinray::scene {
+namespace {
+
+namespace fs = std::filesystem;
+using Triangle = std::array<std::uint32_t, 3>;
+
+const fs::path meshes_dir = fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "meshes";
+const fs::path testmodels_dir = "/usr/share/assimp/models";
+constexpr std::size_t limit = max_scene_primitives;
+
+fs::path output_dir() {
+    const fs::path dir = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "mesh_file";
+    fs::create_directories(dir);
+    return dir;
+}
+
+fs::path write_file(const std::string& name, const std::string& text) {
+    const fs::path file = output_dir() / name;
+    std::ofstream(file, std::ios::binary) << text;
+    return file;
+}
+
+// gtest parameter names allow only letters, digits and underscores.
+std::string test_name(std::string name) {
+    std::replace_if(
+        name.begin(), name.end(), [](unsigned char c) { return !std::isalnum(c); }, '_');
+    return name;
+}
+
+// A stand-in for the mesh reader: a shell script.
+fs::path fake_reader(const std::string& name, const std::string& script) {
+    const fs::path file = write_file(name, "#!/bin/sh\n" + script + "\n");
+    fs::permissions(file, fs::perms::owner_all);
+    return file;
+}
+
+// The refusal of `file`, checked to name it; nullopt when it was read.
+std::optional<SceneError> refusal_of(const fs::path& file, std::size_t max_triangles = limit,
+                                     const MeshReader& reader = MeshReader{}) {
+    try {
+        read_mesh_file(file, max_triangles, reader);
+    } catch (const SceneError& error) {
+        EXPECT_EQ(error.file(), file.string());
+        return error;
+    }
+    return std::nullopt;
+}
+
+// The unit cube of tests/data/meshes/make_meshes.py, scaled, and its quads' fans.
+std::vector<Vec3> cube_vertices(double side) {
+    std::vector<Vec3> vertices;
+    for (const auto& [x, y, z] : std::vector<std::array<int, 3>>{
+             {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}) {
+        vertices.push_back({side * x, side * y, side * z});
+    }
+    return vertices;
+}
+
+const std::vector<Triangle> cube_triangles = {{0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                              {2, 3, 7}, {2, 7, 6}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+
+// ---------------------------------------------------------------------------------------------------
+// Each format.
+
+TEST(MeshFile, ObjCubeOfQuadsInTwoGroupsIsOneMeshOfFans) {
+    const MeshFileResult result = read_mesh_file(meshes_dir / "cube.obj", limit);
+    EXPECT_EQ(result.mesh.vertices, cube_vertices(1));
+    EXPECT_EQ(result.mesh.triangles, cube_triangles);
+    EXPECT_TRUE(result.mesh.normals.empty());
+    EXPECT_FALSE(result.mesh.smooth);
+    EXPECT_TRUE(result.mesh.degenerate.empty());
+    EXPECT_TRUE(result.warnings.empty());
+    EXPECT_EQ(result.mesh.file, (meshes_dir / "cube.obj").string());
+    EXPECT_TRUE(topology_of(result.mesh).closed());
+}
+
+TEST(MeshFile, ConcavePolygonIsCutAlongADiagonalInsideIt) {
+    // The dart (0,0) (2,1) (4,0) (2,3): the fan from its first corner would give (0,1,2), outside it.
+    const MeshFileResult result = read_mesh_file(meshes_dir / "concave.obj", limit);
+    EXPECT_EQ(result.mesh.triangles, (std::vector<Triangle>{{1, 2, 3}, {0, 1, 3}}));
+}
+
+TEST(MeshFile, ObjNormalsSplitEachVertexTheFacesGiveSeveral) {
+    // Each cube corner is on three faces, each face with its own normal: the file's eight vertices keep their
+    // first normal and sixteen copies take the others. Relative indices, a normal of length 2.
+    const MeshFileResult result = read_mesh_file(meshes_dir / "cube_normals.obj", limit);
+    const MeshData& mesh = result.mesh;
+    ASSERT_EQ(mesh.vertices.size(), 24U);
+    ASSERT_EQ(mesh.triangles.size(), 12U);
+    EXPECT_TRUE(mesh.smooth);
+    ASSERT_EQ(mesh.normals.size(), 24U);
+    EXPECT_EQ(std::vector<Vec3>(mesh.vertices.begin(), mesh.vertices.begin() + 8), cube_vertices(1));
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const std::array<Vec3, 6> face_normals{{{0, 0, -1}, {0, 0, 1}, {0, -1, 0}, {0, 1, 0}, {-1, 0, 0}, {1, 0, 0}}};
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t vertex = mesh.triangles[t][k];
+            EXPECT_EQ(mesh.normals[vertex], face_normals[t / 2]) << "triangle " << t;
+            EXPECT_EQ(mesh.vertices[vertex], cube_vertices(1)[cube_triangles[t][k]]) << "triangle " << t;
+        }
+    }
+    EXPECT_EQ(result.warnings, std::vector<std::string>{"materials are not used: mtllib \"cube.mtl\"; usemtl \"red\""});
+    // Split vertices are welded back for the topology.
+    EXPECT_TRUE(topology_of(mesh).closed());
+}
+
+TEST(MeshFile, PlyAsciiAndBinaryReadTheSameDoubles) {
+    // A cube of side 0.1: ASCII text and binary doubles alike give the double nearest 0.1, not a float's.
+    for (const char* name : {"cube_ascii.ply", "cube_binary.ply", "cube_binary_big_endian.ply"}) {
+        SCOPED_TRACE(name);
+        const MeshFileResult result = read_mesh_file(meshes_dir / name, limit);
+        EXPECT_EQ(result.mesh.vertices, cube_vertices(0.1));
+        EXPECT_EQ(result.mesh.triangles, cube_triangles);
+        EXPECT_FALSE(result.mesh.smooth);
+        EXPECT_TRUE(result.warnings.empty());
+        EXPECT_TRUE(topology_of(result.mesh).closed());
+    }
+}
+
+TEST(MeshFile, StlAsciiAndBinaryAreWeldedToTheCubesEightFloatVertices) {
+    // 36 corners in the file, 8 positions: welded in the order they first appear. STL stores floats.
+    const double side = static_cast<double>(0.1F);
+    const std::vector<Vec3> expected_vertices = {{0, 0, 0},    {0, side, 0},    {side, side, 0},    {side, 0, 0},
+                                                 {0, 0, side}, {side, 0, side}, {side, side, side}, {0, side, side}};
+    const std::vector<Triangle> expected_triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}, {0, 3, 5}, {0, 5, 4},
+                                                      {2, 1, 7}, {2, 7, 6}, {0, 4, 7}, {0, 7, 1}, {3, 2, 6}, {3, 6, 5}};
+    for (const char* name : {"cube_ascii.stl", "cube_binary.stl"}) {
+        SCOPED_TRACE(name);
+        const MeshFileResult result = read_mesh_file(meshes_dir / name, limit);
+        EXPECT_EQ(result.mesh.vertices, expected_vertices);
+        EXPECT_EQ(result.mesh.triangles, expected_triangles);
+        EXPECT_TRUE(result.mesh.normals.empty());
+        EXPECT_TRUE(result.warnings.empty());
+        EXPECT_TRUE(topology_of(result.mesh).closed());
+    }
+}
+
+TEST(MeshFile, DegenerateTrianglesAreKeptAndListed) {
+    const fs::path file = write_file("degenerate.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 1 2\nf 2 3 3\n");
+    const MeshFileResult result = read_mesh_file(file, limit);
+    EXPECT_EQ(result.mesh.triangles, (std::vector<Triangle>{{0, 1, 2}, {0, 0, 1}, {1, 2, 2}}));
+    EXPECT_EQ(result.mesh.degenerate, (std::vector<std::uint32_t>{1, 2}));
+}
+
+TEST(MeshFile, ExtensionIsReadInAnyCase) {
+    const fs::path file = output_dir() / "CUBE.OBJ";
+    fs::copy_file(meshes_dir / "cube.obj", file, fs::copy_options::overwrite_existing);
+    EXPECT_EQ(read_mesh_file(file, limit).mesh.triangles.size(), 12U);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Refusals: the file, where, and what is wrong.
+
+struct Refused {
+    std::string file;
+    std::size_t max_triangles;
+    std::string location;
+    std::string problem;
+};
+
+void PrintTo(const Refused& refused, std::ostream* out) {
+    *out << refused.file << " at most " << refused.max_triangles;
+}
+
+class MeshFileRefusal : public testing::TestWithParam<Refused> {};
+
+TEST_P(MeshFileRefusal, NamesTheFileWhereAndWhat) {
+    const Refused& refused = GetParam();
+    const std::optional<SceneError> error = refusal_of(meshes_dir / refused.file, refused.max_triangles);
+    ASSERT_TRUE(error) << "read, not refused";
+    EXPECT_EQ(error->location(), refused.location);
+    EXPECT_EQ(error->problem(), refused.problem);
+}
+
+const std::string over_eleven =
+    ": more than the limit of 11 primitives (about 560 bytes of memory each when rendered; "
+    "no scene may hold more than 4194304)";
+
+INSTANTIATE_TEST_SUITE_P(
+    Files, MeshFileRefusal,
+    testing::Values(
+        Refused{"no_such_file.obj", limit, "", "cannot open file: No such file or directory"},
+        Refused{"cube.gltf", limit, "", "unknown mesh file extension \".gltf\": twinray reads .obj, .ply and .stl"},
+        Refused{"bad_number.obj", limit, "line 3", "\"1x\" is not a number"},
+        Refused{"truncated_binary.ply", limit, "face[11]", "the file ends inside this face of 12: truncated"},
+        Refused{"points_only.ply", limit, "", "no triangles: the file has 3 vertices and no faces"},
+        Refused{"nan_vertex.obj", limit, "line 3", "\"nan\" is not a finite number"},
+        Refused{"out_of_range.obj", limit, "line 6",
+                "vertex index 9 refers to no vertex: 4 are defined before this line"},
+        // Past the limit: OBJ at the face that passes it, PLY and binary STL from the header's counts, before
+        // anything is read.
+        Refused{"cube.obj", 11, "line 17", "this face brings the triangles to 12" + over_eleven},
+        Refused{"cube_ascii.ply", 5, "header",
+                "element face declares 6 faces, each at least one triangle: more than the limit of 5 primitives "
+                "(about 560 bytes of memory each when rendered; no scene may hold more than 4194304)"},
+        Refused{"cube_ascii.ply", 11, "line 24 (face[5])", "this face brings the triangles to 12" + over_eleven},
+        Refused{"cube_binary.ply", 11, "header",
+                "element face declares 12 faces, each at least one triangle" + over_eleven},
+        Refused{"cube_binary.stl", 11, "header", "it declares 12 triangles" + over_eleven},
+        Refused{"cube_ascii.stl", 11, "", "its facets number more than 11" + over_eleven}),
+    [](const testing::TestParamInfo<Refused>& refused) {
+        return test_name(refused.param.file + "_" + std::to_string(refused.param.max_triangles));
+    });
+
+TEST(MeshFile, DirectoryAndFifoAreRefused) {
+    const fs::path dir = output_dir() / "folder.obj";
+    fs::create_directories(dir);
+    std::optional<SceneError> error = refusal_of(dir);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(), "cannot read file: it is a directory");
+    // Opening a FIFO for reading waits for a writer: refused before anything opens it so.
+    const fs::path fifo = output_dir() / "fifo.obj";
+    fs::remove(fifo);
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    error = refusal_of(fifo);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(), "cannot read file: it is not a regular file");
+}
+
+TEST(MeshFile, BinaryStlOfTheWrongSizeIsRefusedBeforeAssimpReadsIt) {
+    std::ifstream in(meshes_dir / "cube_binary.stl", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const fs::path file = write_file("cut.stl", bytes.substr(0, bytes.size() - 10));
+    const std::optional<SceneError> error = refusal_of(file);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(),
+              "neither ASCII STL (it does not begin with \"solid\") nor binary STL (its header declares 12 triangles, "
+              "which take 84 + 50 x 12 bytes, and the file has 674): truncated, or not an STL file");
+}
+
+TEST(MeshFile, PlyIndexOutOfRangeIsRefusedAtItsFace) {
+    const fs::path file = write_file("index.ply",
+                                     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                     "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
+    const std::optional<SceneError> error = refusal_of(file);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->location(), "line 13 (face[0])");
+    EXPECT_EQ(error->problem(), "vertex index 3 is out of range: the file has 3 vertices");
+}
+
+TEST(MeshFile, PlyNonFiniteCoordinateIsRefusedAtItsVertex) {
+    const fs::path file = write_file("inf.ply",
+                                     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                     "end_header\n0 0 0\n1 -inf 0\n0 1 0\n3 0 1 2\n");
+    const std::optional<SceneError> error = refusal_of(file);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->location(), "line 11 (vertex[1])");
+    EXPECT_EQ(error->problem(), "coordinate y is not finite (-inf)");
+}
+
+TEST(MeshFile, PlyClaimingMoreThanTheFileHoldsIsRefusedBeforeAllocating) {
+    const fs::path file = write_file("claims.ply",
+                                     "ply\nformat binary_little_endian 1.0\nelement vertex 4000000\nproperty double x\n"
+                                     "property double y\nproperty double z\nelement face 1\n"
+                                     "property list uchar int vertex_indices\nend_header\n");
+    const std::optional<SceneError> error = refusal_of(file);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(),
+              "truncated: the elements the header declares take at least 96000001 bytes, and the file has 0 after "
+              "its header");
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The reader process: whatever it does, twinray gets an error naming the file.
+
+TEST(MeshFileReader, CrashIsAnError) {
+    const MeshReader reader{fake_reader("segfault.sh", "kill -SEGV $$"), std::chrono::seconds(30)};
+    const std::optional<SceneError> error = refusal_of(meshes_dir / "cube.obj", limit, reader);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(), "the mesh reader crashed on this file (signal 11, Segmentation fault)");
+}
+
+TEST(MeshFileReader, AbortIsAnErrorWithItsLastWords) {
+    const MeshReader reader{fake_reader("abort.sh", "echo 'free(): double free detected' >&2; kill -ABRT $$"),
+                            std::chrono::seconds(30)};
+    const std::optional<SceneError> error = refusal_of(meshes_dir / "cube.obj", limit, reader);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(),
+              "the mesh reader crashed on this file (signal 6, Aborted): free(): double free detected");
+}
+
+TEST(MeshFileReader, HangIsStoppedAtTheTimeLimit) {
+    const MeshReader reader{fake_reader("hang.sh", "exec sleep 60"), std::chrono::milliseconds(300)};
+    const auto start = std::chrono::steady_clock::now();
+    const std::optional<SceneError> error = refusal_of(meshes_dir / "cube.obj", limit, reader);
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(), "the mesh reader took longer than 0.3 s on this file and was stopped");
+}
+
+TEST(MeshFileReader, GarbageIsAMalformedResult) {
+    const MeshReader reader{fake_reader("garbage.sh", "echo 'a mesh, honestly'"), std::chrono::seconds(30)};
+    const std::optional<SceneError> error = refusal_of(meshes_dir / "cube.obj", limit, reader);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(), "the mesh reader sent a malformed result: it does not begin as one does");
+}
+
+TEST(MeshFileReader, FailureIsAnError) {
+    const MeshReader reader{fake_reader("fails.sh", "echo 'cannot load the mesh library module' >&2; exit 3"),
+                            std::chrono::seconds(30)};
+    const std::optional<SceneError> error = refusal_of(meshes_dir / "cube.obj", limit, reader);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(),
+              "the mesh reader failed on this file (exit status 3): cannot load the mesh library module");
+}
+
+TEST(MeshFileReader, MissingReaderIsAnError) {
+    const MeshReader reader{output_dir() / "no_such_reader", std::chrono::seconds(30)};
+    const std::optional<SceneError> error = refusal_of(meshes_dir / "cube.obj", limit, reader);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(),
+              "the mesh reader did not run: cannot start " + reader.program.string() + ": No such file or directory");
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Topology.
+
+TEST(MeshTopology, SingleQuadIsOpenWithFourBoundaryEdges) {
+    const MeshTopology topology = topology_of(read_mesh_file(meshes_dir / "quad.obj", limit).mesh);
+    EXPECT_EQ(topology.boundary_edges, 4U);
+    EXPECT_EQ(topology.non_manifold_edges, 0U);
+    EXPECT_EQ(topology.inconsistently_wound_edges, 0U);
+    EXPECT_FALSE(topology.closed());
+}
+
+TEST(MeshTopology, VerticesAtOnePositionAreOneForTheTopology) {
+    // The cube with three vertices of its own per triangle, as STL has it, is as closed as the shared one.
+    MeshData mesh;
+    for (const Triangle& triangle : cube_triangles) {
+        const auto first = static_cast<std::uint32_t>(mesh.vertices.size());
+        for (const std::uint32_t vertex : triangle) {
+            mesh.vertices.push_back(cube_vertices(1)[vertex]);
+        }
+        mesh.triangles.push_back({first, first + 1, first + 2});
+    }
+    EXPECT_TRUE(topology_of(mesh).closed());
+}
+
+TEST(MeshTopology, FlippedTriangleAndFinAreFound) {
+    MeshData mesh;
+    mesh.vertices = cube_vertices(1);
+    mesh.triangles = cube_triangles;
+    std::swap(mesh.triangles[0][1], mesh.triangles[0][2]);  // its three edges now run as its neighbours' do
+    EXPECT_EQ(topology_of(mesh).inconsistently_wound_edges, 3U);
+    EXPECT_EQ(topology_of(mesh).boundary_edges, 0U);
+    mesh.triangles = cube_triangles;
+    // A fin inside from the bottom's diagonal (0-2) to the front's (0-5): three triangles on each, and its third
+    // edge (2-5) on it alone.
+    mesh.triangles.push_back({0, 2, 5});
+    const MeshTopology topology = topology_of(mesh);
+    EXPECT_EQ(topology.non_manifold_edges, 2U);
+    EXPECT_EQ(topology.boundary_edges, 1U);
+    EXPECT_FALSE(topology.closed());
+}
+
+TEST(MeshTopology, DegenerateTrianglesAreLeftOut) {
+    MeshData mesh;
+    mesh.vertices = cube_vertices(1);
+    mesh.triangles = cube_triangles;
+    mesh.triangles.push_back({0, 0, 1});
+    EXPECT_TRUE(topology_of(mesh).closed());
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Real files: Debian's assimp-testmodels (assimp's own test models).
+
+struct RealFile {
+    std::string file;  // under /usr/share/assimp/models
+    std::size_t vertices;
+    std::size_t triangles;
+    bool smooth;
+    std::array<std::size_t, 3> edges;  // boundary, non-manifold, inconsistently wound
+    std::size_t degenerate;
+    std::string warning;  // the beginning of one of its warnings, or "" for none
+};
+
+void PrintTo(const RealFile& real, std::ostream* out) {
+    *out << real.file;
+}
+
+class AssimpTestModel : public testing::TestWithParam<RealFile> {};
+
+TEST_P(AssimpTestModel, IsReadWithItsCountsAndTopology) {
+    if (!fs::is_directory(testmodels_dir)) {
+        GTEST_SKIP() << "Debian's assimp-testmodels is not installed (" << testmodels_dir << "); ci/setup installs it";
+    }
+    const RealFile& real = GetParam();
+    const MeshFileResult result = read_mesh_file(testmodels_dir / real.file, limit);
+    EXPECT_EQ(result.mesh.vertices.size(), real.vertices);
+    EXPECT_EQ(result.mesh.triangles.size(), real.triangles);
+    EXPECT_EQ(result.mesh.smooth, real.smooth);
+    const MeshTopology topology = topology_of(result.mesh);
+    EXPECT_EQ((std::array{topology.boundary_edges, topology.non_manifold_edges, topology.inconsistently_wound_edges}),
+              real.edges);
+    EXPECT_EQ(result.mesh.degenerate.size(), real.degenerate);
+    if (real.warning.empty()) {
+        EXPECT_TRUE(result.warnings.empty()) << result.warnings[0];
+    } else {
+        EXPECT_TRUE(std::any_of(result.warnings.begin(), result.warnings.end(),
+                                [&real](const std::string& warning) { return warning.starts_with(real.warning); }))
+            << "no warning begins with " << real.warning;
+    }
+}
+
+// The same models in several formats agree: Wuson's 3732 triangles and 412 boundary edges in OBJ, PLY (a vertex per
+// corner, welded for the topology) and STL; the spider's 1368 triangles in OBJ and both STLs, whose floats make
+// 56 of them degenerate.
+INSTANTIATE_TEST_SUITE_P(
+    Files, AssimpTestModel,
+    testing::Values(
+        RealFile{"OBJ/box.obj", 8, 12, false, {0, 0, 0}, 0, "materials are not used: usemtl \"Default\""},
+        RealFile{"OBJ/cube_usemtl.obj",
+                 24,
+                 12,
+                 true,
+                 {0, 0, 0},
+                 0,
+                 "materials are not used: mtllib \"cube_usemtl.mtl\"; usemtl \"mtl\", \"mtl2\", \"mtl3\""},
+        RealFile{"OBJ/cube_with_vertexcolors.obj", 24, 12, true, {0, 0, 0}, 0, "vertex colours"},
+        RealFile{"OBJ/concave_polygon.obj", 64, 64, true, {64, 0, 0}, 0, "materials are not used"},
+        RealFile{"OBJ/spider.obj", 918, 1368, false, {72, 0, 10}, 0, "normals (vn) are not used: normal 488"},
+        RealFile{"OBJ/WusonOBJ.obj", 2117, 3732, true, {412, 0, 0}, 0, "texture coordinates (vt) are not used"},
+        RealFile{"PLY/cube.ply", 8, 12, false, {0, 0, 0}, 0, ""},
+        RealFile{"PLY/cube_binary.ply", 8, 12, false, {0, 0, 0}, 0, ""},
+        RealFile{"PLY/Wuson.ply", 11184, 3732, true, {412, 0, 0}, 0, "header line 3 is not PLY and was passed over"},
+        RealFile{"PLY/float-color.ply", 3, 1, false, {3, 0, 0}, 0, "vertex colours (red, green, blue, alpha)"},
+        RealFile{"STL/Spider_ascii.stl", 722, 1368, false, {72, 0, 10}, 56, ""},
+        RealFile{"STL/Spider_binary.stl", 722, 1368, false, {72, 0, 10}, 56, ""},
+        RealFile{"STL/Wuson.stl", 2117, 3732, false, {412, 0, 0}, 0, ""},
+        RealFile{"STL/sphereWithHole.stl", 146, 285, false, {9, 0, 0}, 0, ""},
+        RealFile{"STL/triangle_with_two_solids.stl", 6, 2, false, {6, 0, 0}, 0, ""},
+        RealFile{"STL/3DSMaxExport.STL", 1042, 2000, false, {0, 16, 0}, 0, ""}),
+    [](const testing::TestParamInfo<RealFile>& real) { return test_name(real.param.file); });
+
+TEST(AssimpTestModels, RefusalsNameWhereTheFileIsWrong) {
+    if (!fs::is_directory(testmodels_dir)) {
+        GTEST_SKIP() << "Debian's assimp-testmodels is not installed (" << testmodels_dir << "); ci/setup installs it";
+    }
+    // "3.1+e2" is no number (assimp's own reader takes it for 3.1).
+    std::optional<SceneError> error = refusal_of(testmodels_dir / "OBJ/number_formats.obj");
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->location(), "line 11");
+    EXPECT_EQ(error->problem(), "\"3.1+e2\" is not a number");
+    error = refusal_of(testmodels_dir / "PLY/points.ply");
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->problem(), "no triangles: the file has 4 vertices and no faces");
+    error = refusal_of(testmodels_dir / "invalid/malformed.obj");
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->location(), "line 23");
+    EXPECT_EQ(error->problem(), "vertex index 12 refers to no vertex: 8 are defined before this line");
+}
+
+TEST(AssimpTestModels, ConcavePolygonsAreCoveredWithoutOverlap) {
+    if (!fs::is_directory(testmodels_dir)) {
+        GTEST_SKIP() << "Debian's assimp-testmodels is not installed (" << testmodels_dir << "); ci/setup installs it";
+    }
+    // Two concave 32-gons (LightWave's test): every triangle faces the way its polygon does, so none overlaps
+    // another or leaves the polygon (the fan from the first corner would fold triangles over).
+    const MeshData mesh = read_mesh_file(testmodels_dir / "OBJ/concave_polygon.obj", limit).mesh;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const auto& [a, b, c] = mesh.triangles[t];
+        const Vec3 normal = cross(mesh.vertices[b] - mesh.vertices[a], mesh.vertices[c] - mesh.vertices[a]);
+        EXPECT_GT(dot(normal, mesh.normals[a]), 0) << "triangle " << t << " is folded over";
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The measurement of docs/performance.md ("Mesh files: the library"), run by ci/measure-mesh-files on each of
+// its files: TWINRAY_MESH_FILE=F mesh_file_test --gtest_also_run_disabled_tests --gtest_filter='*MeasureOneFile'
+
+TEST(MeshFileMeasurement, DISABLED_MeasureOneFile) {
+    const char* file = std::getenv("TWINRAY_MESH_FILE");
+    if (!file) {
+        GTEST_SKIP() << "TWINRAY_MESH_FILE names no file";
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const MeshFileResult result = read_mesh_file(file, limit);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    rusage twinray_side{};
+    rusage reader_side{};
+    getrusage(RUSAGE_SELF, &twinray_side);
+    getrusage(RUSAGE_CHILDREN, &reader_side);
+    const auto triangles = static_cast<double>(result.mesh.triangles.size());
+    std::cout << file << ": " << result.mesh.triangles.size() << " triangles, " << result.mesh.vertices.size()
+              << " vertices in " << seconds << " s; peak RSS " << twinray_side.ru_maxrss / 1024 << " MiB here + "
+              << reader_side.ru_maxrss / 1024 << " MiB in the reader = "
+              << 1024.0 * static_cast<double>(twinray_side.ru_maxrss + reader_side.ru_maxrss) / triangles
+              << " bytes per triangle\n";
+}
+
+}  // namespace
+}  // namespace twinray::scene
