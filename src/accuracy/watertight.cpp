@@ -3,6 +3,7 @@
 #include "math/exact_predicates.h"
 #include "scene/portable_random.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -175,10 +176,11 @@ WatertightCase fan_case(double distance, double size, int probes, SplitMix64& ra
     }
     WatertightCase out{"fan", distance, size, {}, {}};
     for (int i = 0; i < probes; ++i) {
-        // Faces are aimed at in the inner half, where the fan surely covers the plane around the target.
+        // Faces are aimed at in the inner half, where the fan surely covers the plane around the target, and
+        // points of spokes short of the rim, whose outer end is the fan's border.
         Vec3 target = aim_point(vertices, triangles, aim_vertices, spokes, i, random);
-        if (i % 6 == 5) {
-            target = centre + 0.5 * (target - centre);
+        if (i % 6 == 4 || i % 6 == 5) {
+            target = centre + (i % 6 == 4 ? 0.99 : 0.5) * (target - centre);
         }
         Vec3 above = target + size * (normal + random.uniform(-0.5, 0.5) * u + random.uniform(-0.5, 0.5) * w);
         out.probes.push_back(probe_towards(above, target, 3 * size));
@@ -221,7 +223,14 @@ WatertightCase split_square_case(double distance, double size, int probes, Split
     }
     WatertightCase out{"split square", distance, size, {}, {}};
     for (int i = 0; i < probes; ++i) {
-        Vec3 target = aim_point(vertices, triangles, inner_vertices, inner_edges, i, random);
+        // Nested splits put inner points arbitrarily near the border, where a ray within an ulp of one may
+        // rightly pass outside the square (at 1e7 an ulp is 2e-9, a border point 5e-10 in): such a target
+        // is drawn again, so every probe must cross.
+        Vec3 target;
+        do {
+            target = aim_point(vertices, triangles, inner_vertices, inner_edges, i, random);
+        } while (std::max(std::fabs(math::dot(target - centre, u)), std::fabs(math::dot(target - centre, w))) >
+                 0.999 * size);
         out.probes.push_back({target + size * normal, -1.0 * normal, 2 * size});
     }
     out.scene = mesh_scene(std::move(vertices), std::move(triangles), centre);
