@@ -15,6 +15,11 @@
 
 namespace twinray::reference {
 
+// With Accel::automatic (render/render.h) the tracer builds its BVH over its top-level objects where its
+// bounded objects hold more than bvh_crossover primitives (a CSG object counts as its primitives), the count
+// from which it measured faster (docs/performance.md, "The BVH"); and a mesh's over its triangles past as many.
+constexpr std::size_t bvh_crossover = 8;
+
 template <typename T>
 class ObjectBvh {
 public:

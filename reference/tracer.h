@@ -62,11 +62,6 @@ struct Light {
     Color<T> color;
 };
 
-// With Accel::automatic (render/render.h) the tracer builds its BVH over its top-level objects
-// (reference/bvh.h) where its bounded objects hold more than bvh_crossover primitives (a CSG object counts
-// as its primitives), the count from which it measured faster (docs/performance.md, "The BVH").
-constexpr std::size_t bvh_crossover = 8;
-
 template <typename T>
 class Tracer {
 public:

@@ -38,10 +38,6 @@ struct TriangleCrossing {
     bool front = false;
 };
 
-// With Accel::automatic a mesh gets its BVH past this many triangles, the crossover measured for the top level
-// (reference/tracer.h).
-constexpr std::size_t mesh_bvh_crossover = 8;
-
 template <typename T>
 MeshShape<T> make_shape(const scene::Mesh& mesh, Accel accel) {
     const scene::MeshData& data = *mesh.data;
@@ -68,7 +64,7 @@ MeshShape<T> make_shape(const scene::Mesh& mesh, Accel accel) {
         // The box of the vertices in T (each within one rounding of the file's): the BVH's padding covers it.
         bounds.push_back(scene::bounds(data, data.triangles[i]));
     }
-    if (accel == Accel::bvh || (accel == Accel::automatic && shape.live.size() > mesh_bvh_crossover)) {
+    if (accel == Accel::bvh || (accel == Accel::automatic && shape.live.size() > bvh_crossover)) {
         shape.bvh = ObjectBvh<T>(bounds);
     }
     return shape;

@@ -71,18 +71,6 @@ Scene moved(const Scene& scene, double scale, const Vec3& shift) {
     return result;
 }
 
-Bounds bounds(const Mesh& mesh) {
-    constexpr double inf = std::numeric_limits<double>::infinity();
-    Bounds out{{inf, inf, inf}, {-inf, -inf, -inf}};
-    for (const Vec3& vertex : mesh.data->vertices) {
-        for (int axis = 0; axis < 3; ++axis) {
-            out.low[axis] = std::min(out.low[axis], vertex[axis]);
-            out.high[axis] = std::max(out.high[axis], vertex[axis]);
-        }
-    }
-    return out;
-}
-
 Mesh moved(const Mesh& mesh, double scale, const Vec3& shift) {
     auto data = std::make_shared<MeshData>(*mesh.data);
     for (Vec3& vertex : data->vertices) {

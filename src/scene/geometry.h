@@ -175,19 +175,9 @@ inline Bounds bounds(const MeshData& mesh, const std::array<std::uint32_t, 3>& t
     }
     return out;
 }
-// Its vertices' box: the triangles only ever use vertices.
-Bounds bounds(const Mesh& mesh);
 // Vertices moved, normals kept (a move is a scale and a translation).
 Mesh moved(const Mesh& mesh, double scale, const Vec3& shift);
 double largest_coordinate(const Mesh& mesh);
-// The longest edge of a triangle, the size its rounding bounds scale with.
-inline double longest_edge(const MeshData& mesh, const std::array<std::uint32_t, 3>& triangle) {
-    double longest = 0;
-    for (int i = 0; i < 3; ++i) {
-        longest = std::max(longest, length(mesh.vertices[triangle[(i + 1) % 3]] - mesh.vertices[triangle[i]]));
-    }
-    return longest;
-}
 // own rounding γ(6)·e + γ(3)·|p|∞, spawn offset γ(16)·e + γ(5)·|p'|∞ with e the longest edge
 // (reference/triangle.h derives them).
 template <typename T>
