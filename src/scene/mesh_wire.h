@@ -70,6 +70,9 @@ inline Message receive(std::string_view bytes) {
         if (bytes.size() < size) {
             throw std::runtime_error("it ends early");
         }
+        if (size == 0) {
+            return;  // an empty list's data() may be null, which memcpy may not be given even for 0 bytes
+        }
         std::memcpy(out, bytes.data(), size);
         bytes.remove_prefix(size);
     };
