@@ -54,16 +54,11 @@ MeshShape<T> make_shape(const scene::Mesh& mesh, Accel accel) {
         }
     }
     std::vector<scene::Bounds> bounds;
-    std::size_t next_degenerate = 0;
-    for (std::uint32_t i = 0; i < data.triangles.size(); ++i) {
-        if (next_degenerate < data.degenerate.size() && data.degenerate[next_degenerate] == i) {
-            ++next_degenerate;
-            continue;
-        }
+    scene::for_each_live_triangle(data, [&](std::uint32_t i) {
         shape.live.push_back(i);
         // The box of the vertices in T (each within one rounding of the file's): the BVH's padding covers it.
         bounds.push_back(scene::bounds(data, data.triangles[i]));
-    }
+    });
     if (accel == Accel::bvh || (accel == Accel::automatic && shape.live.size() > bvh_crossover)) {
         shape.bvh = ObjectBvh<T>(bounds);
     }

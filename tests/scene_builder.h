@@ -3,6 +3,7 @@
 // primitive's own material, else that of its nearest CSG ancestor that names one, else 0, the default).
 #pragma once
 
+#include "scene/geometry.h"
 #include "scene/scene.h"
 
 #include <array>
@@ -51,12 +52,7 @@ inline scene::Mesh mesh(std::vector<scene::Vec3> vertices, std::vector<std::arra
     data->triangles = std::move(triangles);
     data->smooth = !normals.empty();
     data->normals = std::move(normals);
-    for (std::uint32_t i = 0; i < data->triangles.size(); ++i) {
-        const auto& t = data->triangles[i];
-        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
-            data->degenerate.push_back(i);
-        }
-    }
+    data->degenerate = scene::degenerate_triangles(*data);
     return {std::move(data), material, -1};
 }
 

@@ -55,12 +55,7 @@ Failures every_case(Count&& make_counter) {
 }
 
 TEST(Watertight, TheOracleNeitherMissesNorDoubleHitsAnyEdgeOrVertexAtAnyDistanceAndSize) {
-    Failures failures = every_case([](const twinray::scene::Scene& scene) {
-        auto tracer = std::make_shared<reference::Tracer<double>>(scene);
-        return [tracer](const accuracy::WatertightProbe& probe) {
-            return tracer->mesh_crossings({probe.origin, probe.direction}, probe.length);
-        };
-    });
+    Failures failures = every_case(accuracy::oracle_crossings);
     EXPECT_EQ(failures.rays, rays_in_all);
     EXPECT_EQ(failures.misses, 0u) << failures.text.str();
     EXPECT_EQ(failures.double_hits, 0u) << failures.text.str();
@@ -70,12 +65,8 @@ TEST(Watertight, TheExactSseTracerNeitherMissesNorDoubleHitsAnyEdgeOrVertexAtAny
     if (!sse::cpu_supports_sse41()) {
         GTEST_SKIP() << sse::missing_sse41_message();
     }
-    Failures failures = every_case([](const twinray::scene::Scene& scene) {
-        auto tracer = std::make_shared<sse::Tracer>(scene);
-        return [tracer](const accuracy::WatertightProbe& probe) {
-            return tracer->mesh_crossings({probe.origin, sse::Vec3(probe.direction)}, static_cast<float>(probe.length));
-        };
-    });
+    Failures failures =
+        every_case([](const twinray::scene::Scene& scene) { return accuracy::sse_crossings(scene, {}); });
     EXPECT_EQ(failures.rays, rays_in_all);
     EXPECT_EQ(failures.misses, 0u) << failures.text.str();
     EXPECT_EQ(failures.double_hits, 0u) << failures.text.str();

@@ -1,6 +1,7 @@
 #include "accuracy/watertight.h"
 
-#include "math/exact_predicates.h"
+#include "reference/tracer.h"
+#include "scene/geometry.h"
 #include "scene/portable_random.h"
 
 #include <algorithm>
@@ -41,21 +42,12 @@ std::pair<Vec3, Vec3> plane_axes(const Vec3& n) {
     return {u, math::cross(n, u)};
 }
 
-// The mesh as a scene of its own: one mesh, degenerate triangles (exactly collinear) listed, a camera at `eye`.
+// The mesh as a scene of its own: one mesh, its degenerate triangles listed, a camera at `eye`.
 scene::Scene mesh_scene(std::vector<Vec3> vertices, std::vector<Triangle> triangles, const Vec3& eye) {
     auto data = std::make_shared<scene::MeshData>();
     data->vertices = std::move(vertices);
     data->triangles = std::move(triangles);
-    for (std::uint32_t i = 0; i < data->triangles.size(); ++i) {
-        const Triangle& t = data->triangles[i];
-        auto at = [&](std::uint32_t v) {
-            const Vec3& p = data->vertices[v];
-            return math::Coordinates{p.x, p.y, p.z};
-        };
-        if (math::exactly_collinear(at(t[0]), at(t[1]), at(t[2]))) {
-            data->degenerate.push_back(i);
-        }
-    }
+    data->degenerate = scene::degenerate_triangles(*data);
     scene::Scene scene;
     scene.camera.eye = eye;
     scene.camera.look_at = eye + Vec3{0, 0, -1};
@@ -313,6 +305,20 @@ WatertightCase make_watertight_case(const std::string& family, double distance, 
         return grid_case(distance, size, probes, random);
     }
     throw std::invalid_argument("unknown watertightness family \"" + family + "\"");
+}
+
+CrossingCounter oracle_crossings(const scene::Scene& scene) {
+    auto tracer = std::make_shared<reference::Tracer<double>>(scene);
+    return [tracer](const WatertightProbe& probe) {
+        return tracer->mesh_crossings({probe.origin, probe.direction}, probe.length);
+    };
+}
+
+CrossingCounter sse_crossings(const scene::Scene& scene, const sse::Precision& precision) {
+    auto tracer = std::make_shared<sse::Tracer>(scene, precision);
+    return [tracer](const WatertightProbe& probe) {
+        return tracer->mesh_crossings({probe.origin, sse::Vec3(probe.direction)}, static_cast<float>(probe.length));
+    };
 }
 
 WatertightTally count_watertightness(const WatertightCase& watertight, const CrossingCounter& crossings) {

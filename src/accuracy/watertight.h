@@ -14,6 +14,7 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "sse/tracer.h"
 
 #include <cstdint>
 #include <functional>
@@ -54,6 +55,11 @@ struct WatertightTally {
 
 // How many triangles a tracer reports along the probe.
 using CrossingCounter = std::function<int(const WatertightProbe&)>;
+
+// The oracle's count (reference<double>) and the SSE tracer's with `precision`, each tracer built once for
+// the scene and kept by the counter.
+CrossingCounter oracle_crossings(const scene::Scene& scene);
+CrossingCounter sse_crossings(const scene::Scene& scene, const sse::Precision& precision);
 
 WatertightTally count_watertightness(const WatertightCase& watertight, const CrossingCounter& crossings);
 

@@ -3,7 +3,6 @@
 #include "accuracy/watertight.h"
 #include "cli/exit_codes.h"
 #include "io/atomic_file.h"
-#include "reference/tracer.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
 
@@ -33,12 +32,7 @@ struct Judged {
 
 std::vector<Judged> judged_tracers() {
     std::vector<Judged> tracers;
-    tracers.push_back({"reference", [](const scene::Scene& scene) {
-                           auto tracer = std::make_shared<reference::Tracer<double>>(scene);
-                           return accuracy::CrossingCounter([tracer](const accuracy::WatertightProbe& probe) {
-                               return tracer->mesh_crossings({probe.origin, probe.direction}, probe.length);
-                           });
-                       }});
+    tracers.push_back({"reference", accuracy::oracle_crossings});
     if (!sse::cpu_supports_sse41()) {
         return tracers;
     }
@@ -48,11 +42,7 @@ std::vector<Judged> judged_tracers() {
             continue;
         }
         tracers.push_back({"sse " + sse::precision_name(precision), [precision](const scene::Scene& scene) {
-                               auto tracer = std::make_shared<sse::Tracer>(scene, precision);
-                               return accuracy::CrossingCounter([tracer](const accuracy::WatertightProbe& probe) {
-                                   return tracer->mesh_crossings({probe.origin, sse::Vec3(probe.direction)},
-                                                                 static_cast<float>(probe.length));
-                               });
+                               return accuracy::sse_crossings(scene, precision);
                            }});
     }
     return tracers;
@@ -65,12 +55,13 @@ int run_watertight(const WatertightArguments& arguments) {
     std::map<std::pair<std::string, double>, accuracy::WatertightTally> rows;
     std::vector<std::string> names;
     const auto start = std::chrono::steady_clock::now();
+    const std::vector<Judged> tracers = judged_tracers();
     for (const std::string& family : accuracy::watertight_families()) {
         for (double distance : accuracy::watertight_distances()) {
             for (double size : accuracy::watertight_sizes()) {
                 accuracy::WatertightCase watertight =
                     accuracy::make_watertight_case(family, distance, size, arguments.rays_per_case);
-                for (const Judged& judged : judged_tracers()) {
+                for (const Judged& judged : tracers) {
                     accuracy::WatertightTally tally =
                         accuracy::count_watertightness(watertight, judged.counter_for(watertight.scene));
                     csv << judged.name << "," << family << "," << distance << "," << size << "," << tally.rays << ","

@@ -2,6 +2,7 @@
 #include "peers/embree_module.h"
 
 #include "reference/cylinder.h"
+#include "scene/geometry.h"
 
 #include <embree3/rtcore.h>
 
@@ -183,14 +184,9 @@ void add_mesh(RTCDevice device, RTCScene scene, const scene::MeshData& mesh) {
             *vertex++ = static_cast<float>(v[axis]);
         }
     }
-    auto next_degenerate = mesh.degenerate.begin();  // ascending, as the triangles are walked
-    for (std::uint32_t triangle = 0; triangle < mesh.triangles.size(); ++triangle) {
-        if (next_degenerate != mesh.degenerate.end() && *next_degenerate == triangle) {
-            ++next_degenerate;
-            continue;
-        }
+    scene::for_each_live_triangle(mesh, [&](std::uint32_t triangle) {
         index = std::copy(mesh.triangles[triangle].begin(), mesh.triangles[triangle].end(), index);
-    }
+    });
     attach(scene, geometry);
 }
 

@@ -1,6 +1,7 @@
 #include "pov/exporter.h"
 
 #include "scene/depth_control.h"
+#include "scene/geometry.h"
 
 #include <algorithm>
 #include <array>
@@ -315,15 +316,10 @@ private:
                 line(1, "}");
             }
             line(1, "face_indices { " + std::to_string(data.triangles.size() - data.degenerate.size()) + ",");
-            std::size_t next_degenerate = 0;
-            for (std::uint32_t i = 0; i < data.triangles.size(); ++i) {
-                if (next_degenerate < data.degenerate.size() && data.degenerate[next_degenerate] == i) {
-                    ++next_degenerate;
-                    continue;
-                }
+            scene::for_each_live_triangle(data, [&](std::uint32_t i) {
                 const std::array<std::uint32_t, 3>& t = data.triangles[i];
                 line(2, "<" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ">,");
-            }
+            });
             line(1, "}");
             appearance(mesh.leaf, mesh.material, 1, pass);
             for (const std::string& modifier : modifiers) {

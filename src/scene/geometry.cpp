@@ -1,5 +1,7 @@
 #include "scene/geometry.h"
 
+#include "math/exact_predicates.h"
+
 #include <memory>
 #include <variant>
 
@@ -69,6 +71,22 @@ Scene moved(const Scene& scene, double scale, const Vec3& shift) {
         mesh = moved(mesh, scale, shift);
     }
     return result;
+}
+
+std::vector<std::uint32_t> degenerate_triangles(const MeshData& mesh) {
+    auto exactly = [&](std::uint32_t vertex) {
+        const Vec3& p = mesh.vertices[vertex];
+        return math::Coordinates{p.x, p.y, p.z};
+    };
+    std::vector<std::uint32_t> degenerate;
+    for (std::uint32_t i = 0; i < mesh.triangles.size(); ++i) {
+        const std::array<std::uint32_t, 3>& t = mesh.triangles[i];
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0] ||
+            math::exactly_collinear(exactly(t[0]), exactly(t[1]), exactly(t[2]))) {
+            degenerate.push_back(i);
+        }
+    }
+    return degenerate;
 }
 
 Mesh moved(const Mesh& mesh, double scale, const Vec3& shift) {

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace twinray::scene {
 
@@ -174,6 +175,21 @@ inline Bounds bounds(const MeshData& mesh, const std::array<std::uint32_t, 3>& t
         out.high[axis] = std::max(out.high[axis], mesh.vertices[triangle[2]][axis]);
     }
     return out;
+}
+// The triangles with no area, ascending: a repeated index, or three collinear vertices (decided exactly, so that
+// both tracers, which skip them, agree on which they are). What the loader puts in MeshData::degenerate.
+std::vector<std::uint32_t> degenerate_triangles(const MeshData& mesh);
+// Calls visit(index) for each triangle that can be hit, ascending: all but those in `degenerate`.
+template <typename Visit>
+void for_each_live_triangle(const MeshData& mesh, Visit&& visit) {
+    auto next_degenerate = mesh.degenerate.begin();
+    for (std::uint32_t i = 0; i < mesh.triangles.size(); ++i) {
+        if (next_degenerate != mesh.degenerate.end() && *next_degenerate == i) {
+            ++next_degenerate;
+            continue;
+        }
+        visit(i);
+    }
 }
 // Vertices moved, normals kept (a move is a scale and a translation).
 Mesh moved(const Mesh& mesh, double scale, const Vec3& shift);

@@ -1,7 +1,7 @@
 // The scene's objects: primitives, and CSG trees of them.
 #include "scene/read_scene.h"
 
-#include "math/exact_predicates.h"
+#include "scene/geometry.h"
 #include "scene/loader.h"
 #include "scene/mesh_file.h"
 
@@ -102,20 +102,6 @@ const ObjectKind& require_object_kind(const Node& object) {
         }
     }
     refuse(type->path(), "unknown object type " + in_quotes(name) + "; allowed types: " + object_types());
-}
-
-std::array<double, 3> as_array(const Vec3& v) {
-    return {v[0], v[1], v[2]};
-}
-
-// Zero area: a repeated index, or three collinear vertices (decided exactly, so that both tracers, which
-// skip these, agree on which they are).
-bool is_degenerate(const MeshData& mesh, const std::array<std::uint32_t, 3>& triangle) {
-    if (triangle[0] == triangle[1] || triangle[1] == triangle[2] || triangle[2] == triangle[0]) {
-        return true;
-    }
-    return math::exactly_collinear(as_array(mesh.vertices[triangle[0]]), as_array(mesh.vertices[triangle[1]]),
-                                   as_array(mesh.vertices[triangle[2]]));
 }
 
 // Each vertex's normal as the sum of its triangles' (b − a) × (c − a), whose length is twice the area: large
@@ -238,12 +224,7 @@ MeshFileResult read_mesh_from_file(const Node& node, const Node& file, const std
 // mesh has normals; true without normals, area-weighted vertex normals; false, flat whatever it has.
 void finish_mesh(const Node& node, MeshData& mesh) {
     mesh.smooth = read_or(node, "smooth", !mesh.normals.empty(), require_boolean);
-    mesh.degenerate.clear();
-    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-        if (is_degenerate(mesh, mesh.triangles[i])) {
-            mesh.degenerate.push_back(static_cast<std::uint32_t>(i));
-        }
-    }
+    mesh.degenerate = degenerate_triangles(mesh);
     if (mesh.smooth && mesh.normals.empty()) {
         mesh.normals = area_weighted_normals(mesh);
     }

@@ -214,18 +214,13 @@ private:
         triangles.items.reserve(triangles.items.size() + live);
         triangles.leaf.reserve(triangles.leaf.size() + live);
         triangles.triangle.reserve(triangles.triangle.size() + live);
-        std::size_t next_degenerate = 0;
-        for (std::uint32_t i = 0; i < data.triangles.size(); ++i) {
-            if (next_degenerate < data.degenerate.size() && data.degenerate[next_degenerate] == i) {
-                ++next_degenerate;
-                continue;
-            }
+        scene::for_each_live_triangle(data, [&](std::uint32_t i) {
             bounded.push_back({scene::bounds(data, data.triangles[i]),
                                {triangle_list, static_cast<std::uint32_t>(triangles.items.size())}});
             triangles.items.push_back(make_triangle(data, data.triangles[i]));
             triangles.leaf.push_back(mesh.leaf);
             triangles.triangle.push_back(i);
-        }
+        });
     }
 
     float transmission_of(const scene::Object& object) const {
