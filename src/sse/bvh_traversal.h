@@ -11,6 +11,7 @@
 #include "sse/compiled_scene.h"
 
 #include <algorithm>
+#include <optional>
 
 namespace twinray::sse {
 
@@ -244,11 +245,12 @@ private:
 
 // Calls visit(span, id, transmission, list) for every primitive of a BVH leaf that some ray of the packet meets
 // (as for_each_span) and visit_triangle(crossing, place) for every triangle (its place in scene.triangles), and
-// adds the leaf's CSG objects to `csg`. `sheared` is the packet's frame for triangles (used only if the scene
-// has some).
+// adds the leaf's CSG objects to `csg`. `sheared` is the packet's frame for triangles (made, and read, only where
+// the scene has some).
 template <typename P, typename Visit, typename VisitTriangle>
-void for_each_span_in_leaf(const CompiledScene& scene, BvhLeaf leaf, const RayPacket& rays, const ShearedRays& sheared,
-                           CsgCandidates& csg, Visit&& visit, VisitTriangle&& visit_triangle) {
+void for_each_span_in_leaf(const CompiledScene& scene, BvhLeaf leaf, const RayPacket& rays,
+                           const std::optional<ShearedRays>& sheared, CsgCandidates& csg, Visit&& visit,
+                           VisitTriangle&& visit_triangle) {
     for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
         const BvhItem& item = scene.bvh.items[i];
         if (item.list == csg_list) {
@@ -256,7 +258,7 @@ void for_each_span_in_leaf(const CompiledScene& scene, BvhLeaf leaf, const RayPa
             continue;
         }
         if (item.list == triangle_list) {
-            TriangleHit4 crossing = crossing_of<P>(scene.triangles.items[item.index], sheared);
+            TriangleHit4 crossing = crossing_of<P>(scene.triangles.items[item.index], *sheared);
             if (any(crossing.valid)) {
                 visit_triangle(crossing, item.index);
             }

@@ -88,7 +88,7 @@ public:
             enter_between = span.valid & (span.enter > zero) & (span.enter < distance);
             exit_between = span.valid & (span.exit > zero) & (span.exit < distance);
         };
-        const ShearedRays sheared = sheared_for<P>(scene_, rays);
+        const std::optional<ShearedRays> sheared = sheared_for<P>(scene_, rays);
         // A triangle is crossed once, at t > 0 (crossing_of): it counts where that is before the light.
         auto triangle_between = [&](const TriangleHit4& crossing) { return crossing.valid & (crossing.t < distance); };
         CsgCandidates csg;
@@ -110,8 +110,8 @@ public:
                 for_each_leaf_met(scene_.bvh, BvhRays(rays), open, distance, [&](BvhLeaf leaf) {
                     for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle);
                 });
-            } else if (scene_.bvh.empty() && any(open)) {
-                for_each_triangle_crossing<P>(scene_.triangles, sheared, block_triangle);
+            } else if (scene_.bvh.empty() && sheared && any(open)) {
+                for_each_triangle_crossing<P>(scene_.triangles, *sheared, block_triangle);
             }
         } else {
             auto multiply = [&](vbool4 enter_between, vbool4 exit_between, float transmission) {
@@ -158,11 +158,13 @@ public:
                                                    crossings_between(span, enter_between, exit_between);
                                                    multiply(enter_between, exit_between, transmission);
                                                });
-                for_each_triangle_crossing<P>(scene_.triangles, sheared,
-                                              [&](const TriangleHit4& crossing, std::uint32_t place) {
-                                                  multiply(triangle_between(crossing), none_true(),
-                                                           material_transmission(scene_.triangles.leaf[place]));
-                                              });
+                if (sheared) {
+                    for_each_triangle_crossing<P>(scene_.triangles, *sheared,
+                                                  [&](const TriangleHit4& crossing, std::uint32_t place) {
+                                                      multiply(triangle_between(crossing), none_true(),
+                                                               material_transmission(scene_.triangles.leaf[place]));
+                                                  });
+                }
             }
             open = open & (transmittance > zero);
         }

@@ -174,13 +174,16 @@ int Tracer::mesh_crossings(const Ray& world_ray, float distance) const {
         using P = decltype(policy);
         const CompiledScene& scene = *scene_;
         RayPacket rays = single_ray_packet(ray);
-        ShearedRays sheared = ShearedRays::of<P>(rays);
+        const std::optional<ShearedRays> sheared = sheared_for<P>(scene, rays);
         int count = 0;
+        if (!sheared) {
+            return count;
+        }
         auto count_lane_0 = [&](const TriangleHit4& crossing, std::uint32_t) {
             count += (movemask(crossing.valid & (crossing.t < vfloat4(distance))) & 1);
         };
         if (scene.bvh.empty()) {
-            for_each_triangle_crossing<P>(scene.triangles, sheared, count_lane_0);
+            for_each_triangle_crossing<P>(scene.triangles, *sheared, count_lane_0);
             return count;
         }
         CsgCandidates csg;
