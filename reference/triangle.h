@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <type_traits>
 #include <vector>
 
 namespace twinray::reference {
@@ -38,6 +39,31 @@ struct TriangleCrossing {
     bool front = false;
 };
 
+namespace detail {
+
+template <typename T>
+std::array<double, 3> exactly(Vec3<T> v) {
+    return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
+}
+
+}  // namespace detail
+
+// A triangle that rounding its vertices to T makes degenerate is never hit: its three edge functions sum to
+// d·((b − a) × (c − a)) = 0 at every perturbed origin, so their signs never agree. Skipping it changes no
+// answer and spares the exact fallback its zero edge functions (in float, a mesh moved 1e7 from the origin
+// collapses onto the grid of 1: most of its triangles, every ray that reaches them, all three edges).
+template <typename T>
+bool degenerate_once_rounded(const MeshShape<T>& shape, std::uint32_t triangle) {
+    if constexpr (std::is_same_v<T, double>) {
+        return false;  // the loader's exact test saw these very vertices
+    } else {
+        const std::array<std::uint32_t, 3>& corners = shape.triangles[triangle];
+        return math::exactly_collinear(detail::exactly(shape.vertices[corners[0]]),
+                                       detail::exactly(shape.vertices[corners[1]]),
+                                       detail::exactly(shape.vertices[corners[2]]));
+    }
+}
+
 template <typename T>
 MeshShape<T> make_shape(const scene::Mesh& mesh, Accel accel) {
     const scene::MeshData& data = *mesh.data;
@@ -55,6 +81,9 @@ MeshShape<T> make_shape(const scene::Mesh& mesh, Accel accel) {
     }
     std::vector<scene::Bounds> bounds;
     scene::for_each_live_triangle(data, [&](std::uint32_t i) {
+        if (degenerate_once_rounded(shape, i)) {
+            return;
+        }
         shape.live.push_back(i);
         // The box of the vertices in T (each within one rounding of the file's): the BVH's padding covers it.
         bounds.push_back(scene::bounds(data, data.triangles[i]));
@@ -64,15 +93,6 @@ MeshShape<T> make_shape(const scene::Mesh& mesh, Accel accel) {
     }
     return shape;
 }
-
-namespace detail {
-
-template <typename T>
-std::array<double, 3> exactly(Vec3<T> v) {
-    return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
-}
-
-}  // namespace detail
 
 // Hit when the three perturbed edge signs agree (both sides: no back-face culling). Their sum is
 // d·((b − a) × (c − a)) exactly, so agreeing signs also decide the side exactly: all negative, the ray meets

@@ -4,6 +4,10 @@
 // compiled out: the shipped tracer's code and speed are those without the hooks.
 #pragma once
 
+#ifdef TWINRAY_MUTANT_FREE
+#error "This file includes sse/mutation.h, so each mutant must compile it: list it in twinray_sse_mutable_sources"
+#endif
+
 namespace twinray::sse {
 
 // The numbers are the build's TWINRAY_MUTANT; tests/mutants/CMakeLists.txt lists the names in this order.
