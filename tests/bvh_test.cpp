@@ -474,7 +474,8 @@ void walk(const twinray::sse::Bvh& bvh, Visit&& visit) {
 // of them could be opened (all leaves).
 TEST_F(Bvh, TreeHoldsEveryItemOnceAndStaysWithinItsDepth) {
     using twinray::sse::BvhNode;
-    for (const auto& [name, scene] : hard_scenes()) {
+    for (const auto& [scene_name, scene] : hard_scenes()) {
+        const std::string& name = scene_name;  // clang 14 lets no lambda capture a structured binding
         twinray::sse::CompiledScene compiled = twinray::sse::compile(scene, Accel::bvh);
         const twinray::sse::Bvh& bvh = compiled.bvh;
         std::vector<int> held(bvh.items.size(), 0);

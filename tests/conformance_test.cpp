@@ -45,6 +45,7 @@ constexpr double distance_bound_in_epsilons = 64;
 using twinray::accuracy::angle_between;
 using twinray::accuracy::band_pixels;
 using twinray::accuracy::in_silhouette_band;
+using twinray::accuracy::in_triangle_band;
 using twinray::accuracy::largest_coordinate;
 using twinray::accuracy::normal_bound_radians;
 using twinray::test::scene_files;
@@ -53,6 +54,7 @@ using twinray::test::scene_files;
 struct RayFindings {
     long rays = 0, banded = 0, disagreements = 0;
     double max_t_error = 0, max_point_error = 0, max_normal_error = 0, max_bound_share = 0;
+    long other_triangle_in_edge_band = 0;  // the same mesh, the neighbouring triangle, within a shared edge's band
 };
 
 // Pixel (x, y)'s primary ray in both tracers: the same hit or miss, primitive and side, t and the hit point
@@ -83,6 +85,18 @@ void judge_primary_ray(const RefTracer& reference, const twinray::sse::Tracer& s
             findings.max_normal_error = std::max(findings.max_normal_error, normal_error);
         }
     }
+    if (agrees && expected && expected->triangle != actual->triangle) {
+        // The same mesh, another triangle: only where the ray passes within the band of a shared edge.
+        if (in_triangle_band(reference, scene, x, y, width, height, *expected)) {
+            ++findings.other_triangle_in_edge_band;
+            return;
+        }
+        ++findings.disagreements;
+        ADD_FAILURE() << "pixel " << x << "," << y << ": " << scene.leaf_paths[expected->leaf] << " reference triangle "
+                      << expected->triangle << ", sse triangle " << actual->triangle << ", away from any edge (rays "
+                      << band_pixels << " pixel around it meet the reference's one)";
+        return;
+    }
     if (agrees) {
         return;
     }
@@ -101,12 +115,12 @@ constexpr long disagreements_reported = 10;
 
 void expect_findings_within_bounds(const std::string& name, const RayFindings& findings, double scale) {
     std::printf(
-        "[ measured ] %s: %ld rays, %ld of them in the %.0e-pixel band, %ld disagreements; max |dt| %.3g, "
-        "max |dp| %.3g, at most %.3f of the bound %.0f*eps*(S + t)/|cos| with S = %.3g; "
-        "max normal angle %.3g rad (bound %.0e)\n",
-        name.c_str(), findings.rays, findings.banded, band_pixels, findings.disagreements, findings.max_t_error,
-        findings.max_point_error, findings.max_bound_share, distance_bound_in_epsilons, scale,
-        findings.max_normal_error, normal_bound_radians);
+        "[ measured ] %s: %ld rays, %ld of them in the %.0e-pixel band, %ld on another triangle within an edge's "
+        "band, %ld disagreements; max |dt| %.3g, max |dp| %.3g, at most %.3f of the bound %.0f*eps*(S + t)/|cos| "
+        "with S = %.3g; max normal angle %.3g rad (bound %.0e)\n",
+        name.c_str(), findings.rays, findings.banded, band_pixels, findings.other_triangle_in_edge_band,
+        findings.disagreements, findings.max_t_error, findings.max_point_error, findings.max_bound_share,
+        distance_bound_in_epsilons, scale, findings.max_normal_error, normal_bound_radians);
     ::testing::Test::RecordProperty("max_t_error", std::to_string(findings.max_t_error));
     ::testing::Test::RecordProperty("band_rays", std::to_string(findings.banded));
     EXPECT_EQ(findings.disagreements, 0);

@@ -2,6 +2,7 @@
 // status, and never leaves a partial or corrupted image behind (docs/reliability.md lists them all).
 // The real binary is run, killed and interrupted, as in tests/cli_test.cpp.
 #include "run_twinray.h"
+#include "sanitized_build.h"
 
 #include <gtest/gtest.h>
 
@@ -323,7 +324,7 @@ TEST_F(FailureTest, HugeImageIsRefusedBeforeAllocatingWithStatusOne) {
 // address space the scene renders (both used to fail with std::bad_alloc, an internal error, status 70).
 // The zero bytes are a hole: the file takes no disk space.
 TEST_F(FailureTest, AHugeSceneFileIsReadWithinTheMemoryOfASceneAtThePrimitiveLimit) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#ifdef TWINRAY_SANITIZED_BUILD
     GTEST_SKIP() << "the sanitizers reserve terabytes of shadow memory: no address-space limit can hold";
 #endif
     const fs::path huge = path("huge.json");

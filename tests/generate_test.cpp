@@ -6,6 +6,7 @@
 #include "cli/generate_scene.h"
 #include "reference/tracer.h"
 #include "run_twinray.h"
+#include "sanitized_build.h"
 #include "scene/loader.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
@@ -55,7 +56,8 @@ struct Generated {
 
 Generated generate(const std::string& family, int size, std::uint64_t seed = 1) {
     Generated generated;
-    generated.scene = generate_scene(family, size, seed, [&](std::string_view piece) { generated.text.append(piece); });
+    generated.scene =
+        generate_scene(family, size, seed, {[&](std::string_view piece) { generated.text.append(piece); }, {}});
     return generated;
 }
 
@@ -424,7 +426,7 @@ TEST_F(GenerateTest, DifferentSeedsGiveDifferentFields) {
 
 TEST_F(GenerateTest, NumbersAreWrittenOnTheGridInTheirShortestForm) {
     std::string text;
-    twinray::cli::SceneTextWriter out([&](std::string_view piece) { text.append(piece); }, 3);
+    twinray::cli::SceneTextWriter out({[&](std::string_view piece) { text.append(piece); }, {}}, 3);
     twinray::scene::Scene header;
     header.camera = {{0, 1, 5}, {0, 0, 0}, {0, 1, 0}, 50};
     out.begin(header);
@@ -467,6 +469,63 @@ TEST_F(GenerateTest, GenerateRefusesSeedsThatAreNotWhole64BitNumbers) {
     EXPECT_EQ(largest.exit_status, twinray::cli::exit_success) << largest.output;
 }
 
+// --mesh-file obj and ply: the scene names a file beside it, and the loader reads from it the very doubles,
+// triangles and normals the inline scene holds, so the renders are the same bits.
+TEST_P(MeshFamily, AMeshFileHoldsTheSameVerticesTrianglesAndNormalsAsTheInlineMesh) {
+    CommandResult inline_result =
+        run_twinray("generate " + GetParam() + " --size 2000 --seed 3 -o " + path("inline.json"));
+    ASSERT_EQ(inline_result.exit_status, 0) << inline_result.output;
+    const twinray::scene::Scene inline_scene = twinray::scene::load_scene(path("inline.json"));
+    ASSERT_EQ(inline_scene.meshes.size(), 1u);
+    const twinray::scene::MeshData& expected = *inline_scene.meshes[0].data;
+    for (const std::string format : {"obj", "ply"}) {
+        SCOPED_TRACE(format);
+        CommandResult result = run_twinray("generate " + GetParam() + " --size 2000 --seed 3 --mesh-file " + format +
+                                           " -o " + path(format + "_scene.json"));
+        ASSERT_EQ(result.exit_status, 0) << result.output;
+        EXPECT_NE(result.output.find("its mesh to " + path(format + "_scene." + format)), std::string::npos)
+            << result.output;
+        EXPECT_NE(read_bytes(path(format + "_scene.json")).find("\"file\": \"" + format + "_scene." + format + "\""),
+                  std::string::npos);
+        const twinray::scene::Scene scene = twinray::scene::load_scene(path(format + "_scene.json"));
+        ASSERT_EQ(scene.meshes.size(), 1u);
+        const twinray::scene::MeshData& read = *scene.meshes[0].data;
+        EXPECT_EQ(read.triangles, expected.triangles);
+        EXPECT_EQ(read.smooth, expected.smooth);
+        ASSERT_EQ(read.vertices.size(), expected.vertices.size());
+        for (std::size_t i = 0; i < read.vertices.size(); ++i) {
+            ASSERT_EQ(read.vertices[i], expected.vertices[i]) << "vertex " << i;
+        }
+        ASSERT_EQ(read.normals.size(), expected.normals.size());
+        for (std::size_t i = 0; i < read.normals.size(); ++i) {
+            ASSERT_EQ(read.normals[i], expected.normals[i]) << "normal " << i;
+        }
+        EXPECT_EQ(read.degenerate, expected.degenerate);
+    }
+}
+
+TEST_F(GenerateTest, MeshFileIsRefusedForAFamilyWithoutAMeshAndWhereItWouldBeTheSceneItself) {
+    CommandResult no_mesh = run_twinray("generate field --mesh-file obj -o " + path("s.json"));
+    EXPECT_EQ(no_mesh.exit_status, twinray::cli::exit_usage) << no_mesh.output;
+    EXPECT_NE(no_mesh.output.find("--mesh-file applies to the mesh families"), std::string::npos) << no_mesh.output;
+    CommandResult same_file = run_twinray("generate tetra --mesh-file obj -o " + path("s.obj"));
+    EXPECT_EQ(same_file.exit_status, twinray::cli::exit_usage) << same_file.output;
+    CommandResult unknown = run_twinray("generate tetra --mesh-file stl -o " + path("s.json"));
+    EXPECT_EQ(unknown.exit_status, twinray::cli::exit_usage) << unknown.output;
+    EXPECT_TRUE(files().empty());
+}
+
+// A full disk while the mesh file is written: status 3, neither file nor a temporary left.
+TEST_F(GenerateTest, MeshFileFailingPartWayLeavesNeitherFile) {
+    RunningTwinray generate_process(
+        {"generate", "sphere-mesh", "--size", "200000", "--mesh-file", "obj", "-o", path("s.json")},
+        {.file_size_bytes = 64 * 1024});
+    CommandResult result = generate_process.wait();
+    EXPECT_EQ(result.exit_status, twinray::cli::exit_output_error) << result.output;
+    EXPECT_NE(result.output.find("s.obj"), std::string::npos) << result.output;
+    EXPECT_TRUE(files().empty());
+}
+
 TEST_F(GenerateTest, GenerateIntoAMissingFolderFailsWithStatusThree) {
     CommandResult result = run_twinray("generate lattice -o " + path("missing/s.json"));
     EXPECT_EQ(result.exit_status, twinray::cli::exit_output_error) << result.output;
@@ -490,7 +549,7 @@ TEST_F(GenerateTest, GenerateFailingPartWayKeepsTheOldFileAndLeavesNoTemporary) 
 // memory of a small one.
 // A mesh's lists too are streamed, not held whole.
 TEST_F(GenerateTest, GenerateWritesTheLargestSizeInLittleMemory) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#ifdef TWINRAY_SANITIZED_BUILD
     GTEST_SKIP() << "a sanitizer's shadow memory is not the program's: the budget holds for uninstrumented builds";
 #endif
     const std::vector<std::pair<std::string, std::string>> largest = {

@@ -11,7 +11,7 @@ namespace twinray::test {
 
 inline scene::Scene generated_scene(const std::string& family, int size) {
     std::string text;
-    cli::generate_scene(family, size, 1, [&](std::string_view piece) { text.append(piece); });
+    cli::generate_scene(family, size, 1, {[&](std::string_view piece) { text.append(piece); }, {}});
     return scene::parse_scene(text, family);
 }
 

@@ -77,7 +77,8 @@ TEST(ProbeArguments, EveryRefusalIsAUsageErrorSayingWhatIsWrong) {
         {ray_arguments("0,0,-4e38,1,0,0"), "single precision"},
         {ray_arguments("0,0,0,0,-0,0"), "must not be zero"},
     };
-    for (const auto& [arguments, message] : refused) {
+    for (const auto& [refused_arguments, message] : refused) {
+        const probe::Arguments& arguments = refused_arguments;  // clang 14 lets no lambda capture a structured binding
         SCOPED_TRACE(arguments.pixel + " / " + arguments.ray);
         std::string error = usage_error_of([&] { probe::parse_target(arguments); });
         EXPECT_NE(error.find(message), std::string::npos) << error;

@@ -165,6 +165,50 @@ TEST(ProbeTest, AnUnnormalisedRayDirectionIsNormalisedSoTIsADistance) {
     }
 }
 
+// A unit square of two triangles in z = 0, split along its diagonal from (0, 0) to (1, 1); rays straight down.
+// Below the diagonal the point (x, y) has weights (1 − x, x − y, y) in triangle 0, above it (1 − y, x, y − x)
+// in triangle 1: exact in binary for quarters, in both tracers, whose hit points are exact here.
+TEST(ProbeTest, AMeshHitNamesItsTriangleAndTheBarycentricsOfItsPoint) {
+    std::filesystem::path folder = std::filesystem::path(TWINRAY_TEST_OUTPUT_DIR) / "probe";
+    std::filesystem::create_directories(folder);
+    std::filesystem::path file = folder / "square.json";
+    std::ofstream(file) << R"({"format": "twinray-scene/1", "camera": {"eye": [0.5, 0.5, 4], "look_at": [0.5, 0.5, 0]},
+        "lights": [{"position": [0, 0, 5]}],
+        "objects": [{"type": "mesh", "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]],
+                     "triangles": [[0, 1, 2], [0, 2, 3]]}]})";
+    struct Case {
+        const char* ray;
+        int triangle;
+        std::array<double, 3> barycentrics;
+    };
+    const Case cases[] = {{"0.75,0.25,4,0,0,-1", 0, {0.25, 0.5, 0.25}},
+                          {"0.25,0.75,4,0,0,-1", 1, {0.25, 0.25, 0.5}},
+                          {"0.5,0.125,4,0,0,-1", 0, {0.5, 0.375, 0.125}}};
+    for (const Case& c : cases) {
+        Json json = probe_json(file.string() + " --ray " + c.ray);
+        for (const char* tracer : {"reference", "sse"}) {
+            SCOPED_TRACE(std::string(tracer) + " ray " + c.ray);
+            if (json.at(tracer).is_null()) {
+                continue;
+            }
+            for (const Json& hit : {json.at(tracer).at("hit"), json.at(tracer).at("tree").at(0)}) {
+                ASSERT_TRUE(hit.at("hit").get<bool>()) << hit.dump();
+                EXPECT_EQ(hit.at("object"), "objects[0]");
+                EXPECT_EQ(hit.at("triangle"), c.triangle);
+                EXPECT_EQ(triple(hit.at("barycentrics")), c.barycentrics) << hit.dump();
+            }
+        }
+    }
+}
+
+TEST(ProbeTest, AHitOnAnythingButAMeshHasNoTriangle) {
+    Json json = probe_json(scene_path("showcase.json") + " --ray 0,1.2,10,0,0,-1");
+    const Json& hit = json.at("reference").at("hit");
+    ASSERT_TRUE(hit.at("hit").get<bool>());
+    EXPECT_FALSE(hit.contains("triangle")) << hit.dump();
+    EXPECT_FALSE(hit.contains("barycentrics")) << hit.dump();
+}
+
 TEST(ProbeTest, BadInputIsAUsageErrorAndABadSceneAnInvalidScene) {
     const std::string showcase = scene_path("showcase.json");
     const std::pair<std::string, std::string> refused[] = {

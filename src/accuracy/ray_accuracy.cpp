@@ -109,6 +109,19 @@ bool in_silhouette_band(const reference::Tracer<double>& reference, const scene:
     return false;
 }
 
+bool in_triangle_band(const reference::Tracer<double>& reference, const scene::Scene& scene, int x, int y, int width,
+                      int height, const RefHit& centre) {
+    const double shifts[4][2] = {{band_pixels, 0}, {-band_pixels, 0}, {0, band_pixels}, {0, -band_pixels}};
+    for (const auto& shift : shifts) {
+        std::optional<RefHit> shifted =
+            reference.intersect(reference_ray_at(scene, x + 0.5 + shift[0], y + 0.5 + shift[1], width, height));
+        if (!shifted || shifted->leaf != centre.leaf || shifted->triangle != centre.triangle) {
+            return true;
+        }
+    }
+    return false;
+}
+
 RayAccuracy measure_rays(const std::vector<std::optional<FirstHit>>& expected, const FirstHitOf& actual, int width,
                          int height) {
     RayAccuracy accuracy;

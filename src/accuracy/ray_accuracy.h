@@ -52,6 +52,11 @@ constexpr double normal_bound_radians = 1e-3;
 bool in_silhouette_band(const reference::Tracer<double>& reference, const scene::Scene& scene, int x, int y, int width,
                         int height, const std::optional<RefHit>& centre);
 
+// On a mesh, a ray is in a shared edge's band when rays shifted by `band_pixels` meet another triangle (or
+// none): there a change of float rounding may hand the ray to the neighbour across the edge.
+bool in_triangle_band(const reference::Tracer<double>& reference, const scene::Scene& scene, int x, int y, int width,
+                      int height, const RefHit& centre);
+
 // Primary rays of a tracer against reference<double>: where both hit the same object, t's relative
 // error |t − t_ref|/t_ref and the angle between the normals; elsewhere, disagreements counted.
 struct RayAccuracy {

@@ -36,7 +36,7 @@ struct Family {
 
 scene::Scene generated(const char* family, int size) {
     std::string text;
-    generate_scene(family, size, 1, [&](std::string_view piece) { text.append(piece); });
+    generate_scene(family, size, 1, {[&](std::string_view piece) { text.append(piece); }, {}});
     return scene::parse_scene(text, family);
 }
 

@@ -10,19 +10,20 @@ namespace {
 
 struct Family {
     const char* name;
-    GeneratedScene (*write)(int size, std::uint64_t seed, const TextSink& sink);
+    GeneratedScene (*write)(int size, std::uint64_t seed, const SceneSink& sink);
+    bool writes_mesh;
 };
 
 const std::array<Family, 9> families = {{
-    {"fractal", generate::write_fractal},
-    {"field", generate::write_field},
-    {"lattice", generate::write_lattice},
-    {"csg", generate::write_csg},
-    {"sphere-mesh", generate::write_sphere_mesh},
-    {"torus-mesh", generate::write_torus_mesh},
-    {"tetra", generate::write_tetra},
-    {"sombrero", generate::write_sombrero},
-    {"triangle-soup", generate::write_triangle_soup},
+    {"fractal", generate::write_fractal, false},
+    {"field", generate::write_field, false},
+    {"lattice", generate::write_lattice, false},
+    {"csg", generate::write_csg, false},
+    {"sphere-mesh", generate::write_sphere_mesh, true},
+    {"torus-mesh", generate::write_torus_mesh, true},
+    {"tetra", generate::write_tetra, true},
+    {"sombrero", generate::write_sombrero, true},
+    {"triangle-soup", generate::write_triangle_soup, true},
 }};
 
 }  // namespace
@@ -38,7 +39,16 @@ const std::vector<std::string>& generated_family_names() {
     return names;
 }
 
-GeneratedScene generate_scene(std::string_view family, int size, std::uint64_t seed, const TextSink& sink) {
+bool is_mesh_family(std::string_view family) {
+    for (const Family& candidate : families) {
+        if (family == candidate.name) {
+            return candidate.writes_mesh;
+        }
+    }
+    return false;
+}
+
+GeneratedScene generate_scene(std::string_view family, int size, std::uint64_t seed, const SceneSink& sink) {
     if (size < 1 || size > max_generated_primitives) {
         throw std::invalid_argument("size must be 1.." + std::to_string(max_generated_primitives) + ", got " +
                                     std::to_string(size));

@@ -25,6 +25,9 @@ constexpr int default_generated_primitives = 1000;
 // help and messages list them.
 const std::vector<std::string>& generated_family_names();
 
+// Whether the family writes a mesh (sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup).
+bool is_mesh_family(std::string_view family);
+
 struct GeneratedScene {
     std::int64_t primitives = 0;  // leaves written, the floor plane included; a mesh is one
     std::int64_t triangles = 0;   // of the meshes
@@ -32,7 +35,7 @@ struct GeneratedScene {
 };
 
 // Writes `family`'s scene with as close to `size` primitives as its structure allows, and never more
-// than max_generated_primitives, to `sink`:
+// than max_generated_primitives, to `sink` (a mesh inline in the text, or to a file where sink.mesh_file is set):
 // - fractal: the sphereflake whose count (floor + (9^(depth+1) − 1) / 8 spheres) is nearest `size`;
 // - field: exactly `size` (the floor and size − 1 spheres, boxes and cylinders);
 // - lattice: the a × b × c nodes, sides differing by at most one, whose count (floor + abc spheres +
@@ -49,6 +52,6 @@ struct GeneratedScene {
 // - triangle-soup: exactly `size` random triangles, three vertices each.
 // The closed meshes are counter-clockwise seen from outside. Ties go to the smaller scene. Throws std::invalid_argument for an unknown family or a size outside
 // 1..max_generated_primitives.
-GeneratedScene generate_scene(std::string_view family, int size, std::uint64_t seed, const TextSink& sink);
+GeneratedScene generate_scene(std::string_view family, int size, std::uint64_t seed, const SceneSink& sink);
 
 }  // namespace twinray::cli

@@ -1,12 +1,22 @@
 #include "cli/probe_json.h"
 
+#include <array>
 #include <cstddef>
+#include <optional>
 
 namespace twinray::cli::probe {
 namespace {
 
 Json to_json(const Vec3d& v) {
     return Json::array({v[0], v[1], v[2]});
+}
+
+// A mesh hit's triangle index and barycentrics.
+void add_triangle(const scene::Scene& scene, const RayNode& node, Json& json) {
+    if (std::optional<std::array<double, 3>> weights = barycentrics(scene, node)) {
+        json["triangle"] = node.triangle;
+        json["barycentrics"] = Json::array({(*weights)[0], (*weights)[1], (*weights)[2]});
+    }
 }
 
 Json first_hit_json(const scene::Scene& scene, const RayTree& tree) {
@@ -21,9 +31,7 @@ Json first_hit_json(const scene::Scene& scene, const RayTree& tree) {
               {"object", object_name(scene, node.leaf)},
               {"material", material_name(scene, node.leaf)},
               {"entering", node.entering}};
-    if (node.triangle >= 0) {
-        json["triangle"] = node.triangle;
-    }
+    add_triangle(scene, node, json);
     return json;
 }
 
@@ -46,9 +54,7 @@ Json node_json(const scene::Scene& scene, const RayTree& tree, int index) {
               {"hit", node.hit}};
     if (node.hit) {
         json["object"] = object_name(scene, node.leaf);
-        if (node.triangle >= 0) {
-            json["triangle"] = node.triangle;
-        }
+        add_triangle(scene, node, json);
         json["material"] = material_name(scene, node.leaf);
         json["t"] = node.t;
         json["point"] = to_json(node.point);

@@ -1,6 +1,7 @@
 #include "cli/probe_tracing.h"
 
 #include "reference/tracer.h"
+#include "scene/geometry.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
 
@@ -51,6 +52,18 @@ std::string object_name(const scene::Scene& scene, int leaf) {
         return "leaf " + std::to_string(leaf) + " (unknown)";
     }
     return scene.leaf_paths[static_cast<std::size_t>(leaf)];
+}
+
+std::optional<std::array<double, 3>> barycentrics(const scene::Scene& scene, const RayNode& node) {
+    if (!node.hit || node.triangle < 0) {
+        return std::nullopt;
+    }
+    for (const scene::Mesh& mesh : scene.meshes) {
+        if (mesh.leaf == node.leaf) {
+            return scene::barycentrics(*mesh.data, static_cast<std::uint32_t>(node.triangle), node.point);
+        }
+    }
+    return std::nullopt;
 }
 
 std::string material_name(const scene::Scene& scene, int leaf) {

@@ -6,6 +6,7 @@
 #include "render/ray_tree.h"
 #include "scene/scene.h"
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,6 +33,8 @@ Findings trace_target(const scene::Scene& scene, const Target& target, Accel acc
 
 // Naming what a tree holds, for the text and the JSON alike.
 std::string object_name(const scene::Scene& scene, int leaf);
+// For a hit on a mesh's triangle, its vertices' weights at the hit point (scene::barycentrics); else none.
+std::optional<std::array<double, 3>> barycentrics(const scene::Scene& scene, const RayNode& node);
 std::string material_name(const scene::Scene& scene, int leaf);
 // The node at `index`, or nullptr where the tree is absent or the index is -1 (a ray the tracer did not trace).
 const RayNode* node_at(const RayTree* tree, int index);

@@ -3,6 +3,7 @@
 #include "image/exr_file.h"
 #include "image/png_file.h"
 #include "io/atomic_file.h"
+#include "io/file_handle.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -26,17 +27,13 @@ std::string lowercase_extension(const fs::path& path) {
     return extension;
 }
 
-struct CloseFile {
-    void operator()(std::FILE* stream) const { std::fclose(stream); }
-};
-
 // Errors carry the libraries' or the system's words only; write_atomically names the target file.
 // Both libraries write onto a stream of ours whose error flag and final flush and close are checked:
 // a write that fails part-way (a full disk) must fail the image, not leave a truncated file to be
 // renamed over the old image (tests/failure_test.cpp). OpenImageIO's PNG writer did not check its
 // writes, and OpenEXR swallows errors in the destructor that writes its offset table.
 void write_file(const Image& image, const fs::path& temporary, bool eight_bit) {
-    std::unique_ptr<std::FILE, CloseFile> stream(std::fopen(temporary.c_str(), "wb"));
+    io::FileHandle stream(std::fopen(temporary.c_str(), "wb"));
     if (!stream) {
         throw std::runtime_error(std::strerror(errno));
     }

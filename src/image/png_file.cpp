@@ -1,6 +1,7 @@
 #include "image/png_file.h"
 
 #include "image/image_file.h"
+#include "io/file_handle.h"
 
 #include <png.h>
 
@@ -40,10 +41,6 @@ void write_to_stream(png_structp png, png_bytep bytes, png_size_t count) {
 void flush_stream(png_structp png) {
     std::fflush(static_cast<std::FILE*>(png_get_io_ptr(png)));
 }
-
-struct CloseFile {
-    void operator()(std::FILE* stream) const { std::fclose(stream); }
-};
 
 std::vector<png_byte> to_8bit_rows(const Image& image) {
     std::vector<png_byte> bytes;
@@ -165,7 +162,7 @@ void write_png(const Image& image, std::FILE* stream) {
 }
 
 Image read_png(const std::filesystem::path& path, std::int64_t pixel_limit) {
-    const std::unique_ptr<std::FILE, CloseFile> stream(std::fopen(path.c_str(), "rb"));
+    const io::FileHandle stream(std::fopen(path.c_str(), "rb"));
     if (!stream) {
         throw std::runtime_error(std::strerror(errno));
     }

@@ -1,5 +1,7 @@
 #include "io/atomic_file.h"
 
+#include "io/file_handle.h"
+
 #include <unistd.h>
 #include <cerrno>
 #include <cstdio>
@@ -24,10 +26,6 @@ fs::path temporary_sibling(const fs::path& path) {
     return temporary;
 }
 
-struct CloseFile {
-    void operator()(std::FILE* stream) const { std::fclose(stream); }
-};
-
 }  // namespace
 
 void write_atomically(const fs::path& path, const std::function<void(const fs::path&)>& write) {
@@ -47,7 +45,7 @@ void write_atomically(const fs::path& path, const std::function<void(const fs::p
 
 void write_stream_atomically(const fs::path& path, const std::function<void(std::FILE*)>& write) {
     write_atomically(path, [&](const fs::path& temporary) {
-        std::unique_ptr<std::FILE, CloseFile> stream(std::fopen(temporary.c_str(), "wb"));
+        io::FileHandle stream(std::fopen(temporary.c_str(), "wb"));
         if (!stream) {
             throw FileWriteError("cannot write " + path.string() + ": " + std::strerror(errno));
         }

@@ -89,6 +89,17 @@ std::vector<std::uint32_t> degenerate_triangles(const MeshData& mesh) {
     return degenerate;
 }
 
+std::array<double, 3> barycentrics(const MeshData& mesh, std::uint32_t triangle, const Vec3& point) {
+    const std::array<std::uint32_t, 3>& corners = mesh.triangles[triangle];
+    const Vec3& a = mesh.vertices[corners[0]];
+    const Vec3& b = mesh.vertices[corners[1]];
+    const Vec3& c = mesh.vertices[corners[2]];
+    Vec3 normal = cross(b - a, c - a);
+    double whole = dot(normal, normal);
+    return {dot(normal, cross(b - point, c - point)) / whole, dot(normal, cross(c - point, a - point)) / whole,
+            dot(normal, cross(a - point, b - point)) / whole};
+}
+
 Mesh moved(const Mesh& mesh, double scale, const Vec3& shift) {
     auto data = std::make_shared<MeshData>(*mesh.data);
     for (Vec3& vertex : data->vertices) {

@@ -8,7 +8,9 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -191,6 +193,10 @@ void for_each_live_triangle(const MeshData& mesh, Visit&& visit) {
         visit(i);
     }
 }
+// The weights of the triangle's vertices 0, 1, 2 at `point`'s projection onto its plane: the sub-triangles'
+// areas along its normal over the whole, so they sum to 1 and all lie in [0, 1] inside. In double, from the
+// file's vertices: both tracers' hit points are weighed the same way (probe).
+std::array<double, 3> barycentrics(const MeshData& mesh, std::uint32_t triangle, const Vec3& point);
 // Vertices moved, normals kept (a move is a scale and a translation).
 Mesh moved(const Mesh& mesh, double scale, const Vec3& shift);
 double largest_coordinate(const Mesh& mesh);

@@ -8,6 +8,7 @@
 // anywhere, then format, image, camera, ..., lights) is the one reported, as if read in order.
 #include "scene/loader.h"
 
+#include "io/file_handle.h"
 #include "scene/read_scene.h"
 #include "scene/scene_stream.h"
 
@@ -149,10 +150,6 @@ std::string system_error_text() {
     return std::error_code(errno, std::generic_category()).message();
 }
 
-struct CloseFile {
-    void operator()(std::FILE* stream) const { std::fclose(stream); }
-};
-
 }  // namespace
 
 SceneError::SceneError(std::string file, std::string location, std::string problem)
@@ -170,7 +167,7 @@ Scene parse_scene(std::string_view json_text, const std::string& source_name, st
 }
 
 Scene load_scene(const std::filesystem::path& file, std::size_t max_primitives) {
-    const std::unique_ptr<std::FILE, CloseFile> stream(std::fopen(file.c_str(), "rb"));
+    const io::FileHandle stream(std::fopen(file.c_str(), "rb"));
     if (!stream) {
         throw SceneError(file.string(), "", "cannot open file: " + system_error_text());
     }

@@ -33,7 +33,8 @@ struct MeshReader {
 // first corner), triangles in file order, degenerate ones kept and listed (those with a repeated index; three
 // collinear vertices are left to the caller). Vertices: OBJ's and PLY's as the file numbers them, STL's welded
 // by bit-identical coordinates. Normals, when the file gives every vertex one (OBJ's vn on every face corner,
-// PLY's nx ny nz): normalised, one per vertex (an OBJ vertex given with several normals is split, the copies
+// PLY's nx ny nz): as the file writes them, each non-zero and finite (the loader makes them unit length, as it
+// does inline normals), one per vertex (an OBJ vertex given with several normals is split, the copies
 // appended), and `smooth` set; STL's facet normals are not read. Throws SceneError (file, location such as
 // "line 12" or "face[3]", problem) for an unreadable file, an unknown extension, a malformed or truncated
 // file, no triangles, a coordinate that is not finite, an index out of range, more than `max_triangles`

@@ -214,6 +214,10 @@ MeshFileResult read_mesh_from_file(const Node& node, const Node& file, const std
     try {
         MeshFileResult result = read_mesh_file(path, triangles_allowed);
         result.mesh.file = std::string(name);
+        // The readers pass the file's normals as written (non-zero, finite): unit length the same way as inline.
+        for (Vec3& normal : result.mesh.normals) {
+            normal = normalized(normal);
+        }
         return result;
     } catch (const SceneError& error) {
         refuse(file.path(), error.what());

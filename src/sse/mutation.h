@@ -27,6 +27,7 @@ enum class Mutant : int {
     total_internal_reflection_lost,  // on total internal reflection the transmission is not reflected
     triangle_edge_ties_ignored,      // an edge function of exactly 0 misses (strict > and <, no tie rule)
     triangle_winding_flipped,        // a triangle's front is its clockwise side
+    triangle_shear_dropped,          // triangles projected along the direction's largest axis, not the ray
 };
 
 #ifndef TWINRAY_MUTANT

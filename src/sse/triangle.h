@@ -47,6 +47,9 @@ struct ShearedRays {
         out.shear_x = d.x * inverse_z;
         out.shear_y = d.y * inverse_z;
         out.shear_z = inverse_z;
+        if constexpr (mutated<Mutant::triangle_shear_dropped>) {
+            out.shear_x = out.shear_y = vfloat4(0.0f);
+        }
         out.towards_positive_kz = d.z > vfloat4(0.0f);
         return out;
     }

@@ -100,7 +100,7 @@ const CsgKind& next_csg_kind(SplitMix64& choices, std::int64_t remaining) {
 
 }  // namespace
 
-GeneratedScene write_csg(int size, std::uint64_t seed, const TextSink& sink) {
+GeneratedScene write_csg(int size, std::uint64_t seed, const SceneSink& sink) {
     // The kinds come from a generator of their own, run once to count the objects (the grid's size)
     // and again, from the same seed, to write them; sizes, places and colours from another.
     int objects = 0;

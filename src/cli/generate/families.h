@@ -8,14 +8,14 @@
 
 namespace twinray::cli::generate {
 
-GeneratedScene write_fractal(int size, std::uint64_t seed, const TextSink& sink);
-GeneratedScene write_field(int size, std::uint64_t seed, const TextSink& sink);
-GeneratedScene write_lattice(int size, std::uint64_t seed, const TextSink& sink);
-GeneratedScene write_csg(int size, std::uint64_t seed, const TextSink& sink);
-GeneratedScene write_sphere_mesh(int size, std::uint64_t seed, const TextSink& sink);
-GeneratedScene write_torus_mesh(int size, std::uint64_t seed, const TextSink& sink);
-GeneratedScene write_tetra(int size, std::uint64_t seed, const TextSink& sink);
-GeneratedScene write_sombrero(int size, std::uint64_t seed, const TextSink& sink);
-GeneratedScene write_triangle_soup(int size, std::uint64_t seed, const TextSink& sink);
+GeneratedScene write_fractal(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_field(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_lattice(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_csg(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_sphere_mesh(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_torus_mesh(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_tetra(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_sombrero(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_triangle_soup(int size, std::uint64_t seed, const SceneSink& sink);
 
 }  // namespace twinray::cli::generate

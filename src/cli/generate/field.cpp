@@ -56,7 +56,7 @@ void write_field_object(SceneTextWriter& out, SplitMix64& random, double x, doub
 
 }  // namespace
 
-GeneratedScene write_field(int size, std::uint64_t seed, const TextSink& sink) {
+GeneratedScene write_field(int size, std::uint64_t seed, const SceneSink& sink) {
     SplitMix64 random(seed);
     const int objects = size - 1;
     const int side = square_side(objects);

@@ -67,7 +67,7 @@ struct Sphereflake {
 
 }  // namespace
 
-GeneratedScene write_fractal(int size, std::uint64_t seed, const TextSink& sink) {
+GeneratedScene write_fractal(int size, std::uint64_t seed, const SceneSink& sink) {
     SplitMix64 random(seed);
     const int depth = nearest_parameter(0, size, fractal_primitives);
     // The root, of radius 1, rests on the floor; every level reaches at most 2/3 of its parent's

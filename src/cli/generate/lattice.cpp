@@ -21,7 +21,7 @@ std::int64_t lattice_primitives(LatticeSides sides) {
 
 }  // namespace
 
-GeneratedScene write_lattice(int size, std::uint64_t seed, const TextSink& sink) {
+GeneratedScene write_lattice(int size, std::uint64_t seed, const SceneSink& sink) {
     SplitMix64 random(seed);
     // In increasing count: n³, n²(n + 1), n(n + 1)², (n + 1)³, ...
     LatticeSides sides{1, 1, 1};

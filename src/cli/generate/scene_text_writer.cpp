@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <stdexcept>
 #include <utility>
 
@@ -11,9 +12,36 @@ namespace {
 
 constexpr std::size_t piece_bytes = std::size_t{1} << 20;
 
+// A file name as a JSON string.
+std::string json_string(std::string_view text) {
+    std::string quoted = "\"";
+    for (char c : text) {
+        if (c == '"' || c == '\\') {
+            quoted += '\\';
+            quoted += c;
+        } else if (static_cast<unsigned char>(c) < 0x20) {
+            char escape[8];
+            std::snprintf(escape, sizeof escape, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+            quoted += escape;
+        } else {
+            quoted += c;
+        }
+    }
+    return quoted + '"';
+}
+
 }  // namespace
 
-SceneTextWriter::SceneTextWriter(TextSink sink, int decimals) : sink_(std::move(sink)), grid_scale_(1) {
+void append_shortest(std::string& text, double value) {
+    char digits[64];
+    auto [end, error] = std::to_chars(digits, digits + sizeof digits, value, std::chars_format::fixed);
+    if (error != std::errc{}) {
+        throw std::logic_error("generated coordinate out of range: " + std::to_string(value));
+    }
+    text.append(digits, end);
+}
+
+SceneTextWriter::SceneTextWriter(SceneSink sink, int decimals) : sink_(std::move(sink)), grid_scale_(1) {
     if (decimals < 0 || decimals > 9) {
         throw std::invalid_argument("decimals must be 0..9, got " + std::to_string(decimals));
     }
@@ -28,17 +56,17 @@ SceneTextWriter::SceneTextWriter(TextSink sink, int decimals) : sink_(std::move(
 // k·10^-decimals, and the shortest text that reads back as it has at most that decimal's digits.
 // std::to_chars's shortest form is exact by the standard, unlike printf's "%g" and iostreams'
 // precision, whose last digit each standard library has rounded its own way.
+double SceneTextWriter::on_grid(double value) const {
+    double rounded = std::round(value * grid_scale_) / grid_scale_;
+    return rounded == 0 ? 0 : rounded;  // no "-0"
+}
+
+Vec3 SceneTextWriter::on_grid(Vec3 value) const {
+    return {on_grid(value.x), on_grid(value.y), on_grid(value.z)};
+}
+
 void SceneTextWriter::number(double value) {
-    double on_grid = std::round(value * grid_scale_) / grid_scale_;
-    if (on_grid == 0) {
-        on_grid = 0;  // no "-0"
-    }
-    char digits[64];
-    auto [end, error] = std::to_chars(digits, digits + sizeof digits, on_grid, std::chars_format::fixed);
-    if (error != std::errc{}) {
-        throw std::logic_error("generated coordinate out of range: " + std::to_string(value));
-    }
-    text_.append(digits, end);
+    append_shortest(text_, on_grid(value));
 }
 
 void SceneTextWriter::integer(int value) {
@@ -119,7 +147,7 @@ void SceneTextWriter::end() {
         throw std::logic_error("SceneTextWriter::end with a CSG node still open");
     }
     text_ += list_has_elements_.back() ? "\n  ]\n}\n" : "]\n}\n";
-    sink_(text_);
+    sink_.text(text_);
     text_.clear();
 }
 
@@ -155,7 +183,7 @@ void SceneTextWriter::end_object(int material) {
 
 void SceneTextWriter::flush_if_full() {
     if (text_.size() >= piece_bytes) {
-        sink_(text_);
+        sink_.text(text_);
         text_.clear();
     }
 }
@@ -223,6 +251,11 @@ void SceneTextWriter::mesh(const MeshLists& lists, int material) {
     if (list_has_elements_.size() != 1) {
         throw std::logic_error("SceneTextWriter::mesh inside a CSG node");
     }
+    if (sink_.mesh_file) {
+        mesh_file(lists);
+        end_object(material);
+        return;
+    }
     begin_object("mesh");
     std::int64_t vertices = 0;
     begin_mesh_list("vertices");
@@ -267,6 +300,50 @@ void SceneTextWriter::mesh(const MeshLists& lists, int material) {
     ++primitives_;
     triangles_ += triangles;
     end_object(material);
+}
+
+MeshCounts SceneTextWriter::counted(const MeshLists& lists) const {
+    MeshCounts counts;
+    lists.vertices([&](Vec3) { ++counts.vertices; });
+    lists.triangles([&](int a, int b, int c) {
+        for (int index : {a, b, c}) {
+            if (index < 0 || index >= counts.vertices) {
+                throw std::logic_error("generated triangle names vertex " + std::to_string(index) + " of " +
+                                       std::to_string(counts.vertices));
+            }
+        }
+        ++counts.triangles;
+    });
+    if (lists.normals) {
+        std::int64_t normals = 0;
+        lists.normals([&](Vec3) { ++normals; });
+        if (normals != counts.vertices) {
+            throw std::logic_error("generated mesh has " + std::to_string(normals) + " normals for " +
+                                   std::to_string(counts.vertices) + " vertices");
+        }
+    }
+    return counts;
+}
+
+// The lists go to the file on the grid, so the file holds the very doubles the inline lists would.
+void SceneTextWriter::mesh_file(const MeshLists& lists) {
+    MeshCounts counts = counted(lists);
+    MeshLists on_grid_lists{
+        [&](const PointEmitter& emit) { lists.vertices([&](Vec3 vertex) { emit(on_grid(vertex)); }); }, lists.triangles,
+        nullptr};
+    if (lists.normals) {
+        on_grid_lists.normals = [&](const PointEmitter& emit) {
+            lists.normals([&](Vec3 normal) { emit(on_grid(normal)); });
+        };
+    }
+    std::string name = sink_.mesh_file(on_grid_lists, counts);
+    begin_object("mesh");
+    text_ += ", \"file\": " + json_string(name);
+    if (lists.normals) {
+        text_ += ", \"smooth\": true";
+    }
+    ++primitives_;
+    triangles_ += counts.triangles;
 }
 
 void SceneTextWriter::begin_csg(std::string_view operation, int material) {

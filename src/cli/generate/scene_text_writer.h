@@ -20,7 +20,8 @@ using Vec3 = scene::Vec3;
 using TextSink = std::function<void(std::string_view)>;
 
 // A mesh's lists, each written by the function it is given being called once per element, in order, so
-// that a mesh of a million triangles streams like any other object instead of being held first.
+// that a mesh of a million triangles streams like any other object instead of being held first. A list may be
+// asked for more than once (a mesh file counts before it writes) and gives the same elements each time.
 using PointEmitter = std::function<void(Vec3)>;
 using TriangleEmitter = std::function<void(int, int, int)>;
 struct MeshLists {
@@ -31,11 +32,28 @@ struct MeshLists {
     std::function<void(const PointEmitter&)> normals;
 };
 
+// The shortest decimal text that reads back as `value` (fixed notation, never an exponent).
+void append_shortest(std::string& text, double value);
+
+struct MeshCounts {
+    std::int64_t vertices = 0, triangles = 0;
+};
+// Writes a mesh's lists (already on the writer's grid) to a file of its own and returns the name the scene
+// refers to it by, relative to the scene file.
+using MeshFileSink = std::function<std::string(const MeshLists&, MeshCounts)>;
+
+// Where a generated scene goes: its text, and its meshes to files of their own where `mesh_file` is set
+// (else inline, as lists in the text).
+struct SceneSink {
+    TextSink text;
+    MeshFileSink mesh_file;
+};
+
 class SceneTextWriter {
 public:
     // Coordinates and sizes are rounded to multiples of 10^-decimals (0..9): choose it so that the
     // smallest feature spans a thousand steps or more.
-    SceneTextWriter(TextSink sink, int decimals);
+    SceneTextWriter(SceneSink sink, int decimals);
 
     // Everything but the objects, from `header`: image, camera, background, ambient light, depth, its
     // named materials (not the built-in default, materials[0]) and lights. Opens the objects list.
@@ -48,8 +66,9 @@ public:
     void sphere(Vec3 center, double radius, int material = 0);
     void cylinder(Vec3 base, Vec3 cap, double radius, int material = 0);
     void box(Vec3 min, Vec3 max, int material = 0);
-    // One leaf, at the top level only (a mesh is never a CSG child), one list element per line. Normals are
-    // put on the coordinates' grid too, so their lengths are within a grid step of 1.
+    // One leaf, at the top level only (a mesh is never a CSG child): inline, one list element per line, or as
+    // `"file"` (SceneSink::mesh_file) with the same doubles. Normals are put on the coordinates' grid too, so
+    // their lengths are within a grid step of 1.
     void mesh(const MeshLists& lists, int material);
     // A union, intersection or difference: its children are the objects written until end_csg().
     void begin_csg(std::string_view operation, int material);
@@ -67,12 +86,16 @@ private:
     void begin_mesh_list(std::string_view name);
     void next_mesh_list_element(std::int64_t& count);
     void end_mesh_list(std::int64_t count);
+    double on_grid(double value) const;
+    Vec3 on_grid(Vec3 value) const;
+    MeshCounts counted(const MeshLists& lists) const;
+    void mesh_file(const MeshLists& lists);
     void number(double value);
     void vector(Vec3 value);
     void integer(int value);
     void key(std::string_view name);
 
-    TextSink sink_;
+    SceneSink sink_;
     double grid_scale_;  // 10^decimals, exactly
     std::string text_;
     std::vector<std::string> material_names_;

@@ -48,7 +48,7 @@ struct HeightField {
 
 }  // namespace
 
-GeneratedScene write_sombrero(int size, std::uint64_t seed, const TextSink& sink) {
+GeneratedScene write_sombrero(int size, std::uint64_t seed, const SceneSink& sink) {
     SplitMix64 random(seed);
     const HeightField field{nearest_parameter(1, size, sombrero_triangles)};
     scene::Scene header = framed_scene({0, base_height + 0.4, 0}, half_width + 0.3, {0.45, 0.8, 0.85});

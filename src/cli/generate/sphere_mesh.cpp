@@ -48,7 +48,7 @@ struct UvSphere {
 
 }  // namespace
 
-GeneratedScene write_sphere_mesh(int size, std::uint64_t seed, const TextSink& sink) {
+GeneratedScene write_sphere_mesh(int size, std::uint64_t seed, const SceneSink& sink) {
     SplitMix64 random(seed);
     const UvSphere sphere{nearest_parameter(2, size, sphere_triangles)};
     const Vec3 center{0, 1, 0};

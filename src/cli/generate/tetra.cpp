@@ -48,7 +48,7 @@ void each_tetrahedron(const Tetrahedron& tetrahedron, int levels, const std::fun
 
 }  // namespace
 
-GeneratedScene write_tetra(int size, std::uint64_t seed, const TextSink& sink) {
+GeneratedScene write_tetra(int size, std::uint64_t seed, const SceneSink& sink) {
     SplitMix64 random(seed);
     auto tetrahedra_at = [](int depth) { return std::int64_t{1} << (2 * depth); };
     int depth = 0;

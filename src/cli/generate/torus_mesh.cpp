@@ -48,7 +48,7 @@ struct Torus {
 
 }  // namespace
 
-GeneratedScene write_torus_mesh(int size, std::uint64_t seed, const TextSink& sink) {
+GeneratedScene write_torus_mesh(int size, std::uint64_t seed, const SceneSink& sink) {
     SplitMix64 random(seed);
     const Torus torus{nearest_parameter(3, size, torus_triangles)};
     // The tilted ring's lowest point is tilt_sine below its centre, the tube's surface tube_radius lower.

@@ -24,7 +24,7 @@ int cube_side(int count) {
 
 }  // namespace
 
-GeneratedScene write_triangle_soup(int size, std::uint64_t seed, const TextSink& sink) {
+GeneratedScene write_triangle_soup(int size, std::uint64_t seed, const SceneSink& sink) {
     SplitMix64 random(seed);
     scene::Scene header = framed_scene(cube_center, 1.9, {0.5, 0.4, 0.85});
     const int material = add_material(header, "triangles", plastic(random_color(random)));
@@ -34,14 +34,16 @@ GeneratedScene write_triangle_soup(int size, std::uint64_t seed, const TextSink&
     SceneTextWriter out(sink, decimals_resolving(reach));
     out.begin(header);
     write_floor(out);
+    const SplitMix64 corners_start = random;
     out.mesh({[&](const PointEmitter& emit) {
+                  SplitMix64 corners = corners_start;  // the same corners each time the list is asked for
                   for (int i = 0; i < size; ++i) {
-                      const Vec3 center = cube_center + Vec3{random.uniform(-cube_half_side, cube_half_side),
-                                                             random.uniform(-cube_half_side, cube_half_side),
-                                                             random.uniform(-cube_half_side, cube_half_side)};
+                      const Vec3 center = cube_center + Vec3{corners.uniform(-cube_half_side, cube_half_side),
+                                                             corners.uniform(-cube_half_side, cube_half_side),
+                                                             corners.uniform(-cube_half_side, cube_half_side)};
                       for (int corner = 0; corner < 3; ++corner) {
-                          emit(center + Vec3{random.uniform(-reach, reach), random.uniform(-reach, reach),
-                                             random.uniform(-reach, reach)});
+                          emit(center + Vec3{corners.uniform(-reach, reach), corners.uniform(-reach, reach),
+                                             corners.uniform(-reach, reach)});
                       }
                   }
               },

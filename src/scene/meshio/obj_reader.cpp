@@ -296,7 +296,7 @@ private:
                                            " has no direction");
                 return;
             }
-            normals[v] = given / size;
+            normals[v] = given;  // made unit length by the loader, as inline normals are
         }
         reading.mesh.normals = std::move(normals);
         reading.mesh.smooth = true;

@@ -521,7 +521,7 @@ MeshReading read_body(Body& body, const Header& header, const Layout& layout, st
                     if ((!(size > 0) || !std::isfinite(size)) && !unusable_normal) {
                         unusable_normal = body.location();
                     }
-                    normals.push_back(size > 0 ? normal / size : normal);
+                    normals.push_back(normal);  // made unit length by the loader, as inline normals are
                 }
             }
             body.end();
