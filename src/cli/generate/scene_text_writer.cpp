@@ -30,6 +30,23 @@ std::string json_string(std::string_view text) {
     return quoted + '"';
 }
 
+// A generator's own mistakes, caught before a file the loader would refuse is written.
+void check_corners(int a, int b, int c, std::int64_t vertices) {
+    for (int index : {a, b, c}) {
+        if (index < 0 || index >= vertices) {
+            throw std::logic_error("generated triangle names vertex " + std::to_string(index) + " of " +
+                                   std::to_string(vertices));
+        }
+    }
+}
+
+void check_normal_count(std::int64_t normals, std::int64_t vertices) {
+    if (normals != vertices) {
+        throw std::logic_error("generated mesh has " + std::to_string(normals) + " normals for " +
+                               std::to_string(vertices) + " vertices");
+    }
+}
+
 }  // namespace
 
 void append_shortest(std::string& text, double value) {
@@ -267,12 +284,7 @@ void SceneTextWriter::mesh(const MeshLists& lists, int material) {
     std::int64_t triangles = 0;
     begin_mesh_list("triangles");
     lists.triangles([&](int a, int b, int c) {
-        for (int index : {a, b, c}) {
-            if (index < 0 || index >= vertices) {
-                throw std::logic_error("generated triangle names vertex " + std::to_string(index) + " of " +
-                                       std::to_string(vertices));
-            }
-        }
+        check_corners(a, b, c, vertices);
         next_mesh_list_element(triangles);
         text_ += '[';
         integer(a);
@@ -291,10 +303,7 @@ void SceneTextWriter::mesh(const MeshLists& lists, int material) {
             vector(normal);
         });
         end_mesh_list(normals);
-        if (normals != vertices) {
-            throw std::logic_error("generated mesh has " + std::to_string(normals) + " normals for " +
-                                   std::to_string(vertices) + " vertices");
-        }
+        check_normal_count(normals, vertices);
         text_ += ", \"smooth\": true";
     }
     ++primitives_;
@@ -306,21 +315,13 @@ MeshCounts SceneTextWriter::counted(const MeshLists& lists) const {
     MeshCounts counts;
     lists.vertices([&](Vec3) { ++counts.vertices; });
     lists.triangles([&](int a, int b, int c) {
-        for (int index : {a, b, c}) {
-            if (index < 0 || index >= counts.vertices) {
-                throw std::logic_error("generated triangle names vertex " + std::to_string(index) + " of " +
-                                       std::to_string(counts.vertices));
-            }
-        }
+        check_corners(a, b, c, counts.vertices);
         ++counts.triangles;
     });
     if (lists.normals) {
         std::int64_t normals = 0;
         lists.normals([&](Vec3) { ++normals; });
-        if (normals != counts.vertices) {
-            throw std::logic_error("generated mesh has " + std::to_string(normals) + " normals for " +
-                                   std::to_string(counts.vertices) + " vertices");
-        }
+        check_normal_count(normals, counts.vertices);
     }
     return counts;
 }
