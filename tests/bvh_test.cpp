@@ -178,7 +178,7 @@ protected:
 };
 
 TEST_F(Bvh, ImagesOfGeneratedScenesAreBitIdenticalToBruteForce) {
-    for (const char* family : {"fractal", "field", "lattice", "csg"}) {
+    for (const char* family : {"fractal", "field", "lattice", "csg", "tetra", "triangle-soup"}) {
         Scene scene = generated_scene(family, 3000);
         scene.width = 96;
         scene.height = 64;
@@ -201,6 +201,7 @@ bool expect_same_answers(const twinray::sse::Tracer& brute, const twinray::sse::
     EXPECT_EQ(a.has_value(), b.has_value()) << label;
     if (a && b) {
         EXPECT_EQ(a->leaf, b->leaf) << label;
+        EXPECT_EQ(a->triangle, b->triangle) << label;
         EXPECT_EQ(std::memcmp(&a->t, &b->t, sizeof(float)), 0) << label << ": t " << a->t << " and " << b->t;
         EXPECT_EQ(std::memcmp(&a->normal, &b->normal, sizeof(a->normal)), 0) << label;
     }
@@ -216,6 +217,7 @@ TEST_F(Bvh, EveryRayFindsTheSameNearestHitAsBruteForce) {
     std::vector<std::pair<std::string, Scene>> scenes = hard_scenes();
     scenes.emplace_back("field", generated_scene("field", 3000));
     scenes.emplace_back("csg", generated_scene("csg", 3000));
+    scenes.emplace_back("triangle-soup", generated_scene("triangle-soup", 3000));
     SplitMix64 random(11);
     for (const auto& [name, scene] : scenes) {
         twinray::sse::Tracer brute(scene, {}, Accel::none);
@@ -420,6 +422,133 @@ TEST_F(Bvh, TransmissionFallbackMultipliesInFileOrderNotLeafOrder) {
     EXPECT_EQ(product(brute.primitives.of<twinray::scene::Sphere>()), brute_shadow.lane(0));
     EXPECT_NE(product(bvh.primitives.of<twinray::scene::Sphere>()), brute_shadow.lane(0))
         << "leaf order gives the same product: the test cannot tell the orders apart";
+}
+
+// The same for triangles, which the BVH also puts in leaf order: three glass meshes of `count` / 3 triangles
+// each across the column, their places along it scattered, so that leaf order interleaves the meshes. Below
+// the factors' capacity they multiply sorted by mesh, above it the fallback walks triangles.file_order; both
+// must give brute force's product bit for bit, and leaf order's own product must differ (lest the test prove
+// nothing).
+TEST_F(Bvh, TriangleTransmissionsMultiplyInFileOrderNotLeafOrder) {
+    using namespace twinray::sse;
+    const twinray::Vec3d floor(0, -12, 0), light(-20, 30, 20);
+    const twinray::Vec3d along = (1.0 / std::sqrt(twinray::math::dot(light - floor, light - floor))) * (light - floor);
+    const twinray::Vec3d side = twinray::math::normalize(twinray::math::cross(along, twinray::Vec3d(0, 0, 1)));
+    const twinray::Vec3d up = twinray::math::cross(side, along);
+    const char* glasses[] = {"glass93", "glass81", "glass97"};
+    for (std::size_t count : {std::size_t{96}, std::size_t{150}}) {
+        std::string meshes[3];
+        std::size_t in_mesh[3] = {};
+        for (std::size_t i = 0; i < count; ++i) {
+            std::size_t k = 1 + (i * 61) % count;  // 61 is prime to 96 and to 150: every place once
+            twinray::Vec3d at = floor + (static_cast<double>(k) / static_cast<double>(count + 1)) * (light - floor);
+            std::string& mesh = meshes[i % 3];
+            mesh += std::string(mesh.empty() ? "" : ", ") + json::vec3(at - 0.3 * side - 0.3 * up) + ", " +
+                    json::vec3(at + 0.3 * side - 0.3 * up) + ", " + json::vec3(at + 0.6 * up);
+            ++in_mesh[i % 3];
+        }
+        std::string text = R"({"format": "twinray-scene/1", "image": {"width": 32, "height": 24},
+          "camera": {"eye": [0, 6, 30], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 50},
+          "materials": {"matte": {"color": [0.8, 0.3, 0.2], "diffuse": 0.8},
+            "glass93": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.93, "ior": 1.5},
+            "glass81": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.81, "ior": 1.5},
+            "glass97": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.97, "ior": 1.5}},
+          "lights": [{"position": [-20, 30, 20], "color": [0.8, 0.8, 0.8]}],
+          "objects": [{"type": "plane", "normal": [0, 1, 0], "offset": -12, "material": "matte"})";
+        for (int m = 0; m < 3; ++m) {
+            std::string triangles;
+            for (std::size_t t = 0; t < in_mesh[m]; ++t) {
+                triangles += std::string(t == 0 ? "" : ", ") + "[" + std::to_string(3 * t) + ", " +
+                             std::to_string(3 * t + 1) + ", " + std::to_string(3 * t + 2) + "]";
+            }
+            text += ",\n{\"type\": \"mesh\", \"material\": \"" + std::string(glasses[m]) + "\", \"vertices\": [" +
+                    meshes[m] + "], \"triangles\": [" + triangles + "]}";
+        }
+        Scene scene = twinray::scene::parse_scene(text + "]}", "bvh_test");
+        CompiledScene brute = compile(scene, Accel::none);
+        CompiledScene bvh = compile(scene, Accel::bvh);
+        ASSERT_FALSE(bvh.bvh.empty());
+        ASSERT_EQ(bvh.origin, (twinray::scene::Vec3{0, 0, 0}));
+        ASSERT_EQ(bvh.triangles.file_order.size(), count);
+        const bool over = count > static_cast<std::size_t>(TransmissionFactors::capacity);
+        const std::string name = std::to_string(count) + " glass triangles";
+
+        Fallbacks fallbacks;
+        Vec3x4 origins = packet_around({0, -11.999f, 0}, {0, 1, 0}).origin;
+        vbool4 lanes = packet_around({0, 0, 0}, {0, 1, 0}).active;
+        vfloat4 brute_shadow = ShadowTransmittance<ExactPrecision>(brute)(origins, Vec3(light), lanes);
+        vfloat4 bvh_shadow = ShadowTransmittance<ExactPrecision>(bvh)(origins, Vec3(light), lanes, &fallbacks);
+        EXPECT_EQ(fallbacks.transmission_factors, over) << name;
+        EXPECT_TRUE(same_lanes(brute_shadow, bvh_shadow))
+            << name << ": transmittance " << lanes_of(brute_shadow) << " and " << lanes_of(bvh_shadow);
+
+        // Every lane crosses every triangle once: the product in each order, as the tracer multiplies.
+        auto product = [&](const CompiledScene& compiled) {
+            float transmittance = 1.0f;
+            for (const TriangleRecord& triangle : compiled.triangles.items) {
+                int material = -1;
+                for (const twinray::scene::Mesh& mesh : scene.meshes) {
+                    material = mesh.leaf == triangle.leaf ? mesh.material : material;
+                }
+                transmittance *= static_cast<float>(scene.materials[static_cast<std::size_t>(material)].transmission);
+            }
+            return transmittance;
+        };
+        EXPECT_EQ(product(brute), brute_shadow.lane(0)) << name;
+        EXPECT_NE(product(bvh), brute_shadow.lane(0))
+            << name << ": leaf order gives the same product: the test cannot tell the orders apart";
+        std::printf("%s: fell back %s, shadow transmittance %.9g (leaf order's product %.9g)\n", name.c_str(),
+                    over ? "yes" : "no", static_cast<double>(bvh_shadow.lane(0)), static_cast<double>(product(bvh)));
+    }
+}
+
+// Ties within a mesh go to the lower triangle index however the BVH orders the triangles: a grid of 512 small
+// triangles at z = 0 under one large one (triangle 0, listed first), rays straight down from z = 4. Every ray
+// meets the large triangle and a small one at exactly t = 4 (the sheared frame's z is 4 for every vertex, a
+// power of two, so t = 4·det/det), and must report triangle 0, as brute force does, although leaf order puts
+// some small triangles before it (checked, lest the test prove nothing).
+TEST_F(Bvh, CoincidentTrianglesGoToTheLowerIndexWhateverTheLeafOrder) {
+    using namespace twinray::sse;
+    constexpr int cells = 16;
+    std::string vertices = "[-1, -1, 0], [3, -1, 0], [-1, 3, 0]", triangles = "[0, 1, 2]";
+    int next = 3;
+    for (int row = 0; row < cells; ++row) {
+        for (int column = 0; column < cells; ++column) {
+            double x = column / double{cells}, y = row / double{cells}, step = 1.0 / cells;
+            vertices += ", " + json::vec3({x, y, 0}) + ", " + json::vec3({x + step, y, 0}) + ", " +
+                        json::vec3({x + step, y + step, 0}) + ", " + json::vec3({x, y + step, 0});
+            triangles += ", [" + std::to_string(next) + ", " + std::to_string(next + 1) + ", " +
+                         std::to_string(next + 2) + "], [" + std::to_string(next) + ", " + std::to_string(next + 2) +
+                         ", " + std::to_string(next + 3) + "]";
+            next += 4;
+        }
+    }
+    Scene scene = scene_of({"{\"type\": \"mesh\", \"material\": \"matte\", \"vertices\": [" + vertices +
+                            "], \"triangles\": [" + triangles + "]}"});
+    Tracer brute(scene, {}, Accel::none);
+    Tracer bvh(scene, {}, Accel::bvh);
+    ASSERT_FALSE(bvh.compiled().bvh.empty());
+    ASSERT_EQ(bvh.compiled().origin, (twinray::scene::Vec3{0, 0, 0}));
+    const auto& places = bvh.compiled().triangles.items;
+    std::size_t large_place = 0;
+    while (places[large_place].triangle != 0) {
+        ++large_place;
+    }
+    EXPECT_GT(large_place, 0u) << "leaf order keeps triangle 0 first: the test cannot tell index from place";
+    int rays = 0;
+    for (int i = 0; i < 4 * cells; ++i) {
+        for (int j = 0; j < 4 * cells; ++j) {
+            twinray::sse::Ray ray{{(i + 0.37) / (4.0 * cells), (j + 0.61) / (4.0 * cells), 4.0}, Vec3(0, 0, -1)};
+            std::optional<Hit> hit = bvh.intersect(ray);
+            ASSERT_TRUE(hit.has_value());
+            EXPECT_EQ(hit->t, 4.0f);
+            EXPECT_EQ(hit->triangle, 0) << "ray " << i << ", " << j << " at t " << hit->t;
+            expect_same_answers(brute, bvh, ray, "ray " + std::to_string(i) + ", " + std::to_string(j));
+            ++rays;
+        }
+    }
+    std::printf("%d rays down through 513 coplanar triangles: all on triangle 0 (at place %zu of %zu in leaf order)\n",
+                rays, large_place, places.size());
 }
 
 TEST_F(Bvh, FastPrecisionImagesAreBitIdenticalWithAndWithoutBvh) {

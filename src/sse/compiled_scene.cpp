@@ -104,12 +104,14 @@ public:
                 unbounded.push_back(item);
             }
         }
+        const bool any_smooth = std::any_of(scene_.meshes.begin(), scene_.meshes.end(),
+                                            [](const scene::Mesh& mesh) { return mesh.data->smooth; });
         for (std::size_t mesh = 0; mesh < scene_.meshes.size(); ++mesh) {
-            add_mesh(out, scene_.meshes[mesh], static_cast<std::uint32_t>(mesh), bounded);
+            add_mesh(out, scene_.meshes[mesh], static_cast<std::uint32_t>(mesh), any_smooth, bounded);
         }
         bounded_leaves += out.triangles.items.size();
         if (accel_ == Accel::bvh || (accel_ == Accel::automatic && bounded_leaves > bvh_crossover)) {
-            add_bvh(out, bounded, unbounded);
+            add_bvh(out, bounded, unbounded, scene_.has_transparency());
         }
         for (const scene::Light& light : scene_.lights) {
             out.lights.push_back({Vec3(light.position), Color(light.color)});
@@ -127,8 +129,8 @@ public:
 
 private:
     // The BVH over `bounded`; the rest in the flat lists every ray tests, in their compiled order.
-    static void add_bvh(CompiledScene& out, const std::vector<BvhInput>& bounded,
-                        const std::vector<BvhItem>& unbounded) {
+    static void add_bvh(CompiledScene& out, const std::vector<BvhInput>& bounded, const std::vector<BvhItem>& unbounded,
+                        bool keep_triangle_file_order) {
         const double cpu_start = process_cpu_seconds();
         out.bvh = build_bvh(bounded);
         out.bvh_build_cpu_seconds = process_cpu_seconds() - cpu_start;
@@ -146,15 +148,16 @@ private:
                 out.unbounded_csg.push_back(static_cast<std::int32_t>(item.index));
             }
         }
-        put_in_leaf_order(out, unbounded);
+        put_in_leaf_order(out, unbounded, keep_triangle_file_order);
     }
 
-    // Moves the primitives into the order of the BVH's leaves (the unbounded ones after, in file order) and
-    // points the leaves' items at their new places: the walk then reads each leaf's records one after the
-    // other instead of missing the cache on each (at a million primitives the lists far exceed it). Where
-    // each went is kept in bvh.file_order. The records move in place, along the permutation's cycles: a
-    // moved copy of the lists would add some 100 bytes per primitive to the peak of compiling.
-    static void put_in_leaf_order(CompiledScene& out, const std::vector<BvhItem>& unbounded) {
+    // Moves the primitives and the triangles into the order of the BVH's leaves (the unbounded primitives
+    // after, in file order) and points the leaves' items at their new places: the walk then reads each leaf's
+    // records one after the other instead of missing the cache on each (at a million primitives the lists far
+    // exceed it). Where each primitive went is kept in bvh.file_order, and each triangle's, where shadow rays
+    // multiply transmissions, in triangles.file_order.
+    static void put_in_leaf_order(CompiledScene& out, const std::vector<BvhItem>& unbounded,
+                                  bool keep_triangle_file_order) {
         constexpr std::size_t list_count = scene::PrimitiveTypes::size;
         std::size_t first[list_count];  // where each list's places begin in file_order
         std::uint32_t placed[list_count] = {};
@@ -169,10 +172,16 @@ private:
             out.bvh.file_order[first[item.list] + item.index] = leaf_place;
             return leaf_place;
         };
-        // CSG objects and triangles keep their places (a triangle's place orders ties within its mesh).
+        LargeArray<std::uint32_t> destination(
+            out.triangles.items.size());  // where the record now at each place belongs
+        std::uint32_t triangles_placed = 0;
+        // CSG objects keep their places.
         for (BvhItem& item : out.bvh.items) {
             if (item.list < csg_list) {
                 item.index = place(item);
+            } else if (item.list == triangle_list) {
+                destination[item.index] = triangles_placed;
+                item.index = triangles_placed++;
             }
         }
         for (const BvhItem& item : unbounded) {
@@ -180,30 +189,46 @@ private:
                 place(item);
             }
         }
-        LargeArray<std::uint32_t> destination;  // where the record now at each place belongs
+        if (keep_triangle_file_order) {
+            out.triangles.file_order = destination;
+        }
+        TriangleList& triangles = out.triangles;
+        move_to_destinations(destination, [&](std::uint32_t i, std::uint32_t j) {
+            std::swap(triangles.items[i], triangles.items[j]);
+            if (!triangles.corners.empty()) {
+                std::swap(triangles.corners[i], triangles.corners[j]);
+            }
+        });
         list_index = 0;
         auto permute = [&](auto& records) {
             const auto begin = out.bvh.file_order.begin() + static_cast<std::ptrdiff_t>(first[list_index++]);
             destination.assign(begin, begin + static_cast<std::ptrdiff_t>(records.items.size()));
-            for (std::uint32_t i = 0; i < destination.size(); ++i) {
-                while (destination[i] != i) {
-                    std::uint32_t j = destination[i];
-                    records.swap(i, j);
-                    std::swap(destination[i], destination[j]);
-                }
-            }
+            move_to_destinations(destination, [&](std::uint32_t i, std::uint32_t j) { records.swap(i, j); });
         };
         std::apply([&](auto&... list) { (permute(list), ...); }, out.primitives.of_type);
     }
 
-    // Its triangles to the triangle list and, bounded, to the BVH's inputs; its leaf to the mesh's surface.
-    static void add_mesh(CompiledScene& out, const scene::Mesh& mesh, std::uint32_t index,
+    // Moves the record at each place i to destination[i], in place along the permutation's cycles (a moved
+    // copy would add its whole size to the peak of compiling); uses destination up.
+    template <typename Swap>
+    static void move_to_destinations(LargeArray<std::uint32_t>& destination, Swap&& swap) {
+        for (std::uint32_t i = 0; i < destination.size(); ++i) {
+            while (destination[i] != i) {
+                std::uint32_t j = destination[i];
+                swap(i, j);
+                std::swap(destination[i], destination[j]);
+            }
+        }
+    }
+
+    // Its triangles to the triangle list (and their corners, where some mesh is smooth) and, bounded, to the
+    // BVH's inputs; its leaf to the mesh's surface.
+    static void add_mesh(CompiledScene& out, const scene::Mesh& mesh, std::uint32_t index, bool with_corners,
                          std::vector<BvhInput>& bounded) {
         const scene::MeshData& data = *mesh.data;
         out.leaves[static_cast<std::size_t>(mesh.leaf)] = {MeshSurface{index}, mesh.material};
         CompiledMesh compiled;
         if (data.smooth) {
-            compiled.corners.assign(data.triangles.begin(), data.triangles.end());
             for (const scene::Vec3& normal : data.normals) {
                 compiled.normals.push_back(Vec3(normal));
             }
@@ -212,14 +237,16 @@ private:
         TriangleList& triangles = out.triangles;
         const std::size_t live = data.triangles.size() - data.degenerate.size();
         triangles.items.reserve(triangles.items.size() + live);
-        triangles.leaf.reserve(triangles.leaf.size() + live);
-        triangles.triangle.reserve(triangles.triangle.size() + live);
+        if (with_corners) {
+            triangles.corners.reserve(triangles.corners.size() + live);
+        }
         scene::for_each_live_triangle(data, [&](std::uint32_t i) {
             bounded.push_back({scene::bounds(data, data.triangles[i]),
                                {triangle_list, static_cast<std::uint32_t>(triangles.items.size())}});
-            triangles.items.push_back(make_triangle(data, data.triangles[i]));
-            triangles.leaf.push_back(mesh.leaf);
-            triangles.triangle.push_back(i);
+            triangles.items.push_back(make_triangle(data, i, mesh.leaf));
+            if (with_corners) {
+                triangles.corners.push_back(data.triangles[i]);
+            }
         });
     }
 

@@ -97,19 +97,22 @@ constexpr std::uint32_t csg_list = scene::PrimitiveTypes::size;
 // BvhItem::list of a mesh's triangle (an index into CompiledScene::triangles).
 constexpr std::uint32_t triangle_list = csg_list + 1;
 
-// Every mesh's triangles that can be hit (degenerate ones are left out), mesh after mesh in file order and
-// each mesh's in its own order, so that between two triangles of one mesh the lower place is the lower
-// triangle index (the tie-break rule). 44 bytes a triangle.
+// Every mesh's triangles that can be hit (degenerate ones are left out): without a BVH mesh after mesh in file
+// order and each mesh's in its own order; with one, in the order of its leaves (CompiledScene::primitives').
+// 44 bytes a triangle.
 struct TriangleList {
     LargeArray<TriangleRecord> items;
-    LargeArray<std::int32_t> leaf;       // its mesh's leaf
-    LargeArray<std::uint32_t> triangle;  // its index in the mesh (scene::MeshData::triangles)
+    // With a BVH and transparent materials only: the places of the triangles in file order, the order brute
+    // force multiplies shadow rays' transmissions in (4 bytes a triangle more).
+    LargeArray<std::uint32_t> file_order;
+    // Where some mesh is smooth, every triangle's vertex indices by place, for its normals (12 bytes a triangle
+    // more); beside the records, so that the hits of one leaf find theirs on one cache line.
+    LargeArray<std::array<std::uint32_t, 3>> corners;
 };
 
 // What a mesh's hits need beyond the triangle: the vertex normals it shades with, if smooth.
 struct CompiledMesh {
-    LargeArray<std::array<std::uint32_t, 3>> corners;  // by triangle index; empty when flat
-    LargeArray<Vec3> normals;                          // by vertex; empty when flat
+    LargeArray<Vec3> normals;  // by vertex (TriangleList::corners); empty when flat
 };
 
 // One list per primitive type, in the order of scene::PrimitiveTypes.

@@ -30,7 +30,10 @@ struct Nearest4 {
     vfloat4 t{infinity};
     vint4 leaf{-1};
     vint4 tag{0};
-    vint4 triangle{-1};  // a mesh's hit: the triangle's place in CompiledScene::triangles (else stale, unread)
+    // A mesh's hit (else stale, unread): the triangle's place in CompiledScene::triangles, and its index in its
+    // mesh, which breaks ties within the mesh.
+    vint4 place{-1};
+    vint4 triangle{-1};
 };
 
 // A primitive's first crossing after t = 0 is its enter if that lies ahead, else its exit. Smaller t
@@ -49,11 +52,11 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
 }
 
 // A triangle's crossing, kept as keep_nearest keeps a primitive's: smaller t wins; at equal t the smaller
-// leaf, and within one mesh the smaller place, which is the smaller triangle index (TriangleList).
-inline void keep_nearest_triangle(Nearest4& nearest, const TriangleHit4& crossing, std::int32_t leaf_id,
-                                  std::int32_t place) {
-    vint4 leaf(leaf_id);
-    vint4 triangle(place);
+// leaf, and within one mesh the smaller triangle index.
+inline void keep_nearest_triangle(Nearest4& nearest, const TriangleHit4& crossing, const TriangleRecord& record,
+                                  std::uint32_t place) {
+    vint4 leaf(record.leaf);
+    vint4 triangle(static_cast<std::int32_t>(record.triangle));
     vbool4 same_leaf = leaf == nearest.leaf;
     vbool4 earlier_leaf = mutated<Mutant::ties_to_later_object> ? nearest.leaf < leaf : leaf < nearest.leaf;
     vbool4 earlier = earlier_leaf | (same_leaf & (triangle < nearest.triangle));
@@ -62,6 +65,7 @@ inline void keep_nearest_triangle(Nearest4& nearest, const TriangleHit4& crossin
     nearest.leaf = select(nearer, leaf, nearest.leaf);
     nearest.tag = select(nearer, select(crossing.front, vint4(tag_entering), vint4(0)), nearest.tag);
     nearest.triangle = select(nearer, triangle, nearest.triangle);
+    nearest.place = select(nearer, vint4(static_cast<std::int32_t>(place)), nearest.place);
 }
 
 // The packet's frame for triangles, made only where the scene has some: model only what the scene requires
@@ -209,7 +213,7 @@ public:
         for_each_span<P>(candidates, rays, keep);
         const std::optional<ShearedRays> sheared = sheared_for<P>(scene_, rays);
         auto keep_triangle = [&](const TriangleHit4& crossing, std::uint32_t place) {
-            keep_nearest_triangle(nearest, crossing, scene_.triangles.leaf[place], static_cast<std::int32_t>(place));
+            keep_nearest_triangle(nearest, crossing, scene_.triangles.items[place], place);
         };
         CsgCandidates csg;
         if (!scene_.bvh.empty()) {
@@ -313,19 +317,44 @@ private:
         return out;
     }
 
-    // A triangle's surface at a hit: the unit normal of the side the ray met (its front where `front`), and
-    // its plane's projection (reference/triangle.h's surface_point, in float).
-    LaneSurface triangle_surface(std::uint32_t place, bool front, Vec3 point) const {
-        const TriangleRecord& triangle = scene_.triangles.items[place];
-        Vec3 normal = math::normalize(math::cross(triangle.b - triangle.a, triangle.c - triangle.a));
-        float longest =
-            std::fmax(math::length(triangle.b - triangle.a),
-                      std::fmax(math::length(triangle.c - triangle.b), math::length(triangle.a - triangle.c)));
-        math::SurfaceBounds<float> bounds = scene::surface_bounds_of_triangle(longest);
-        LaneSurface out;
-        out.outward = front ? normal : -normal;
-        out.anchor = {point + math::dot(triangle.a - point, normal) * normal, 0.0f,
-                      bounds.own_rounding.at(math::max_abs_component(point)), bounds.spawn_offset};
+    // The surfaces of the triangles the lanes of `lanes` hit (at places `place`), four at once: the unit normal
+    // of the side each ray met (its front where `front`) and its plane's projection (reference/triangle.h's
+    // surface_point, in float). The textbook operations of the scalar code lane by lane (three divisions,
+    // IEEE square roots), so each lane rounds as one triangle alone would; lanes outside `lanes` repeat a hit
+    // lane's triangle and are not read.
+    struct TriangleSurfaces4 {
+        Vec3x4 outward, anchor;
+        vfloat4 own_rounding, size_bound, point_factor;
+    };
+
+    TriangleSurfaces4 triangle_surfaces(const std::int32_t place[4], int lanes, vbool4 front,
+                                        const Vec3x4& point) const {
+        const TriangleRecord* record[4];
+        const int first = __builtin_ctz(static_cast<unsigned>(lanes));
+        for (int lane = 0; lane < 4; ++lane) {
+            int from = ((lanes >> lane) & 1) != 0 ? lane : first;
+            record[lane] = &scene_.triangles.items[static_cast<std::size_t>(place[from])];
+        }
+        // Each vertex's x, y, z and the next 4 bytes of the record (its next vertex, or its leaf), transposed.
+        auto gather = [&](auto member) {
+            __m128 v0 = _mm_loadu_ps(&(record[0]->*member).x), v1 = _mm_loadu_ps(&(record[1]->*member).x);
+            __m128 v2 = _mm_loadu_ps(&(record[2]->*member).x), v3 = _mm_loadu_ps(&(record[3]->*member).x);
+            _MM_TRANSPOSE4_PS(v0, v1, v2, v3);
+            return Vec3x4{vfloat4(v0), vfloat4(v1), vfloat4(v2)};
+        };
+        Vec3x4 a = gather(&TriangleRecord::a), b = gather(&TriangleRecord::b), c = gather(&TriangleRecord::c);
+        auto length = [](const Vec3x4& v) { return sqrt(math::dot(v, v)); };
+        Vec3x4 n = math::cross(b - a, c - a);
+        Vec3x4 normal = n / length(n);
+        vfloat4 longest = max(length(b - a), max(length(c - b), length(a - c)));
+        math::SurfaceBounds<float> bounds = scene::surface_bounds_of_triangle(1.0f);
+        TriangleSurfaces4 out;
+        out.outward = select(front, normal, -normal);
+        out.anchor = point + math::dot(a - point, normal) * normal;
+        out.own_rounding = vfloat4(bounds.own_rounding.size) * longest +
+                           vfloat4(bounds.own_rounding.point_factor) * max_abs_component(point);
+        out.size_bound = vfloat4(bounds.spawn_offset.size) * longest;
+        out.point_factor = vfloat4(bounds.spawn_offset.point_factor);
         return out;
     }
 
@@ -333,7 +362,7 @@ private:
     // at `point`, turned to `facing`; `facing` where they cancel.
     Vec3 smooth_normal(const CompiledMesh& mesh, std::uint32_t place, Vec3 point, Vec3 facing) const {
         const TriangleRecord& t = scene_.triangles.items[place];
-        const std::array<std::uint32_t, 3>& corners = mesh.corners[scene_.triangles.triangle[place]];
+        const std::array<std::uint32_t, 3>& corners = scene_.triangles.corners[place];
         Vec3 n = math::cross(t.b - t.a, t.c - t.a);
         float area = math::dot(n, n);
         float weight_a = math::dot(n, math::cross(t.c - t.b, point - t.b)) / area;
@@ -368,18 +397,19 @@ private:
         }
         nearest.leaf.store(leaf);
         nearest.tag.store(tag);
-        nearest.triangle.store(place);
+        nearest.place.store(place);
         int lanes = movemask(hit.hit);
         const CompiledMesh* smooth[4] = {};
+        int triangle_lanes = 0;
         for (int lane = 0; lane < 4; ++lane) {
             LaneSurface surface;
             if ((lanes >> lane) & 1) {
                 const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
                 Vec3 lane_point{point[0][lane], point[1][lane], point[2][lane]};
                 if (const auto* mesh = std::get_if<MeshSurface>(&info.surface)) {
-                    auto at = static_cast<std::uint32_t>(place[lane]);
-                    surface = triangle_surface(at, (tag[lane] & tag_entering) != 0, lane_point);
-                    triangle[lane] = static_cast<std::int32_t>(scene_.triangles.triangle[at]);
+                    triangle_lanes |= 1 << lane;
+                    triangle[lane] = static_cast<std::int32_t>(
+                        scene_.triangles.items[static_cast<std::size_t>(place[lane])].triangle);
                     const CompiledMesh& compiled = scene_.meshes[mesh->mesh];
                     smooth[lane] = compiled.normals.empty() ? nullptr : &compiled;
                 } else {
@@ -397,6 +427,20 @@ private:
             point_factor[lane] = surface.anchor.spawn_offset.point_factor;
         }
         Vec3x4 outward{vfloat4::load(normal[0]), vfloat4::load(normal[1]), vfloat4::load(normal[2])};
+        Vec3x4 anchors{vfloat4::load(anchor[0]), vfloat4::load(anchor[1]), vfloat4::load(anchor[2])};
+        vfloat4 radii = vfloat4::load(radius);
+        vfloat4 own_roundings = vfloat4::load(own_rounding), size_bounds = vfloat4::load(size_bound),
+                point_factors = vfloat4::load(point_factor);
+        if (triangle_lanes != 0) {
+            TriangleSurfaces4 triangles = triangle_surfaces(place, triangle_lanes, hit.entering, hit.point);
+            vbool4 on_triangle = lanes_of(triangle_lanes);
+            outward = select(on_triangle, triangles.outward, outward);
+            anchors = select(on_triangle, triangles.anchor, anchors);
+            radii = select(on_triangle, vfloat4(0.0f), radii);
+            own_roundings = select(on_triangle, triangles.own_rounding, own_roundings);
+            size_bounds = select(on_triangle, triangles.size_bound, size_bounds);
+            point_factors = select(on_triangle, triangles.point_factor, point_factors);
+        }
         vbool4 normalize_lanes{_mm_castsi128_ps(vint4::load(curved).m)};
         if (any(normalize_lanes)) {
             // As the reference's radial_normal: a radial vector of exactly zero (a primitive smaller than
@@ -406,13 +450,11 @@ private:
         }
         // Re-projected onto the surface where measurably off it: p is |n̂·(p − anchor)| from the anchor
         // along n̂ and p' is |radius| (0 on flat faces, whose anchor is p' itself).
-        Vec3x4 anchors{vfloat4::load(anchor[0]), vfloat4::load(anchor[1]), vfloat4::load(anchor[2])};
-        vfloat4 radii = vfloat4::load(radius);
         vfloat4 off_surface = abs(abs(dot<P>(outward, hit.point - anchors)) - abs(radii));
         if constexpr (!mutated<Mutant::no_reprojection>) {
-            hit.point = select(off_surface > vfloat4::load(own_rounding), anchors + radii * outward, hit.point);
+            hit.point = select(off_surface > own_roundings, anchors + radii * outward, hit.point);
         }
-        hit.spawn_offset = vfloat4::load(size_bound) + vfloat4::load(point_factor) * max_abs_component(hit.point);
+        hit.spawn_offset = size_bounds + point_factors * max_abs_component(hit.point);
         if constexpr (mutated<Mutant::spawn_offset_too_small>) {
             hit.spawn_offset = hit.spawn_offset * vfloat4(0x1p-20f);
         }

@@ -10,15 +10,17 @@
 namespace twinray::sse {
 
 // The crossings of a packet's shadow rays through primitives and triangles found in any order (through the
-// BVH), to be multiplied in brute force's order, (type list, id), triangles last in place order: float multiplication is not associative, and this keeps
-// the product the same bit for bit. A primitive no lane crosses would multiply by exactly 1, so it is left
-// out. Past `capacity` crossings (no heap allocation per ray) the caller falls back to brute force.
+// BVH), to be multiplied in brute force's order, (type list, id), triangles last by their mesh's leaf: float
+// multiplication is not associative, and this keeps the product the same bit for bit. The triangles of one mesh
+// need no order among them: each multiplies a lane by the mesh's one transmission or by exactly 1. A primitive
+// no lane crosses would multiply by exactly 1, so it is left out. Past `capacity` crossings (no heap allocation
+// per ray) the caller falls back to brute force.
 class TransmissionFactors {
 public:
     static constexpr int capacity = 128;
     struct Factor {
         std::uint32_t list;
-        std::int32_t id;  // increasing in file order within its list
+        std::int32_t id;  // increasing in file order within its list; a triangle's mesh's leaf
         vbool4 enter_between, exit_between;
         float transmission;
     };
@@ -60,6 +62,21 @@ void for_each_span_in_file_order(const CompiledScene& scene, const RayPacket& ra
     for_each_span_in_order<P>(
         scene.primitives, rays, [&](std::size_t first, std::size_t i) { return scene.bvh.file_order[first + i]; },
         visit);
+}
+
+// for_each_triangle_crossing in file order: the list's own without a BVH, through triangles.file_order with one.
+template <typename P, typename Visit>
+void for_each_triangle_crossing_in_file_order(const TriangleList& triangles, const ShearedRays& rays, Visit&& visit) {
+    if (triangles.file_order.empty()) {
+        for_each_triangle_crossing<P>(triangles, rays, visit);
+        return;
+    }
+    for (std::uint32_t place : triangles.file_order) {
+        TriangleHit4 crossing = crossing_of<P>(triangles.items[place], rays);
+        if (any(crossing.valid)) {
+            visit(crossing, place);
+        }
+    }
 }
 
 // Model only what the scene requires: without transparent materials a shadow ray stops at its first
@@ -132,8 +149,8 @@ public:
                 auto record_triangle = [&](const TriangleHit4& crossing, std::uint32_t place) {
                     vbool4 between = triangle_between(crossing);
                     if (any(between)) {
-                        factors.add({triangle_list, static_cast<std::int32_t>(place), between, none_true(),
-                                     material_transmission(scene_.triangles.leaf[place])});
+                        std::int32_t leaf = scene_.triangles.items[place].leaf;
+                        factors.add({triangle_list, leaf, between, none_true(), material_transmission(leaf)});
                     }
                 };
                 for_each_span<P>(scene_.flat(), rays, record);
@@ -159,11 +176,11 @@ public:
                                                    multiply(enter_between, exit_between, transmission);
                                                });
                 if (sheared) {
-                    for_each_triangle_crossing<P>(scene_.triangles, *sheared,
-                                                  [&](const TriangleHit4& crossing, std::uint32_t place) {
-                                                      multiply(triangle_between(crossing), none_true(),
-                                                               material_transmission(scene_.triangles.leaf[place]));
-                                                  });
+                    for_each_triangle_crossing_in_file_order<P>(
+                        scene_.triangles, *sheared, [&](const TriangleHit4& crossing, std::uint32_t place) {
+                            multiply(triangle_between(crossing), none_true(),
+                                     material_transmission(scene_.triangles.items[place].leaf));
+                        });
                 }
             }
             open = open & (transmittance > zero);

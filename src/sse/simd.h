@@ -120,6 +120,11 @@ inline vint4 operator&(vint4 a, vint4 b) {
 inline vint4 as_int(vbool4 a) {
     return vint4(_mm_castps_si128(a.m));
 }
+// The lanes of the set bits of `bits` (movemask's inverse).
+inline vbool4 lanes_of(int bits) {
+    vint4 bit(_mm_setr_epi32(1, 2, 4, 8));
+    return (vint4(bits) & bit) == bit;
+}
 inline vbool4 all_true() {
     return {_mm_castsi128_ps(_mm_set1_epi32(-1))};
 }

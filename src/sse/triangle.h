@@ -15,33 +15,41 @@
 
 namespace twinray::sse {
 
-// The three vertices in float, relative to the compiled scene's origin (36 bytes): a BVH leaf's triangles
-// are tested without an index lookup. A vertex shared by several triangles is the same float in each.
+// The three vertices in float, relative to the compiled scene's origin, and whose triangle they are (44 bytes):
+// a BVH leaf's triangles are tested, and a hit named, from the record alone, with no index lookup. A vertex
+// shared by several triangles is the same float in each.
 struct TriangleRecord {
     Vec3 a, b, c;
+    std::int32_t leaf;       // its mesh's leaf
+    std::uint32_t triangle;  // its index in the mesh (scene::MeshData::triangles)
 };
 
-inline TriangleRecord make_triangle(const scene::MeshData& mesh, const std::array<std::uint32_t, 3>& triangle) {
-    return {Vec3(mesh.vertices[triangle[0]]), Vec3(mesh.vertices[triangle[1]]), Vec3(mesh.vertices[triangle[2]])};
+inline TriangleRecord make_triangle(const scene::MeshData& mesh, std::uint32_t triangle, std::int32_t leaf) {
+    const std::array<std::uint32_t, 3>& corners = mesh.triangles[triangle];
+    return {Vec3(mesh.vertices[corners[0]]), Vec3(mesh.vertices[corners[1]]), Vec3(mesh.vertices[corners[2]]), leaf,
+            triangle};
 }
 
 // What the test needs of each ray, once per packet: its origin, the axis kz of its direction's largest
 // |component| (then kx, ky follow cyclically, a right-handed frame) and the shear that makes the direction
 // (0, 0, 1): x' = x_kx − Sx·x_kz, y' = x_ky − Sy·x_kz, z' = Sz·x_kz.
 struct ShearedRays {
-    Vec3x4 origin;
+    Vec3x4 permuted_origin;   // (o_kx, o_ky, o_kz) per lane
     vbool4 kz_is_x, kz_is_y;  // else z
     vfloat4 shear_x, shear_y, shear_z;
     vbool4 towards_positive_kz;  // d_kz > 0: the frame's +z is the ray's direction, not its reverse
+    // Where the four lanes share kz (primary and shadow rays nearly always do), a vertex is permuted once for
+    // all of them, not lane by lane: kx, ky, kz of all lanes, else common_kz = -1.
+    int common_kx = 0, common_ky = 0, common_kz = -1;
 
     // A packet's frame: one division per packet, made only for scenes with triangles.
     template <typename P>
     static ShearedRays of(const RayPacket& rays) {
         ShearedRays out;
-        out.origin = rays.origin;
         Vec3x4 size = abs(rays.direction);
         out.kz_is_x = (size.x >= size.y) & (size.x >= size.z);
         out.kz_is_y = !out.kz_is_x & (size.y >= size.z);
+        out.permuted_origin = out.permute(rays.origin);
         Vec3x4 d = out.permute(rays.direction);
         vfloat4 inverse_z = divide<P>(vfloat4(1.0f), d.z);
         out.shear_x = d.x * inverse_z;
@@ -51,6 +59,10 @@ struct ShearedRays {
             out.shear_x = out.shear_y = vfloat4(0.0f);
         }
         out.towards_positive_kz = d.z > vfloat4(0.0f);
+        int x_lanes = movemask(out.kz_is_x), y_lanes = movemask(out.kz_is_y);
+        out.common_kz = x_lanes == 0xf ? 0 : y_lanes == 0xf ? 1 : (x_lanes | y_lanes) == 0 ? 2 : -1;
+        out.common_kx = (out.common_kz + 1) % 3;
+        out.common_ky = (out.common_kz + 2) % 3;
         return out;
     }
 
@@ -60,9 +72,13 @@ struct ShearedRays {
                 select(kz_is_x, v.x, select(kz_is_y, v.y, v.z))};
     }
 
-    // A vertex in each ray's frame.
-    Vec3x4 transformed(Vec3 vertex) const {
-        Vec3x4 p = permute(broadcast(vertex) - origin);
+    // A vertex in each ray's frame. Permuting before subtracting the origin rounds as after: a permutation
+    // only chooses which components meet.
+    Vec3x4 transformed(const Vec3& vertex) const {
+        Vec3x4 v = common_kz >= 0
+                       ? Vec3x4{vfloat4(vertex[common_kx]), vfloat4(vertex[common_ky]), vfloat4(vertex[common_kz])}
+                       : permute(broadcast(vertex));
+        Vec3x4 p = v - permuted_origin;
         return {p.x - shear_x * p.z, p.y - shear_y * p.z, shear_z * p.z};
     }
 };

@@ -1,0 +1,128 @@
+// First hits of primary rays on the given scene files, one thread, CPU time, in alternated rounds: each round
+// casts the SSE tracer's packets (sse::cast_primary_rays, --accel bvh) and then, where Embree is built, its
+// rtcIntersect1 in each mode and ISA `twinray bench --scaling` times, so that this machine's drift of speed
+// over seconds falls on every side alike. Prints the median ns per ray of each side and the median of its ratios
+// to ours within a round: the quick loop for work on the walk and the leaves (`bench --scaling` is the full
+// table).
+//   first_hit_benchmark [--runs N] [--width W] [--no-peers] SCENE...   (--no-peers: the SSE tracer alone, to profile)
+#include "scene/loader.h"
+#include "sse/tracer.h"
+
+#if TWINRAY_WITH_EMBREE
+#include "peers/embree_peer.h"
+#endif
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace twinray;
+
+double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    std::size_t middle = values.size() / 2;
+    return values.size() % 2 == 1 ? values[middle] : (values[middle - 1] + values[middle]) / 2;
+}
+
+struct Side {
+    std::string name;
+    std::vector<double> seconds;
+    std::uint64_t rays = 0;
+    std::uint64_t hits = 0;
+};
+
+void time_scene(const std::string& file, int runs, int width, bool with_peers) {
+    const scene::Scene scene = scene::load_scene(file);
+    RenderOptions options;
+    options.width = width;
+    options.threads = 1;
+    options.accel = Accel::bvh;
+    std::vector<Side> sides = {{"sse exact", {}, 0, 0}};
+#if TWINRAY_WITH_EMBREE
+    struct Variant {
+        const char* name;
+        peers::EmbreeIsa isa;
+        peers::EmbreeMode mode;
+    };
+    const Variant variants[] = {{"embree widest", peers::EmbreeIsa::widest, peers::EmbreeMode::standard},
+                                {"embree widest robust", peers::EmbreeIsa::widest, peers::EmbreeMode::robust},
+                                {"embree sse4.2", peers::EmbreeIsa::sse42, peers::EmbreeMode::standard},
+                                {"embree sse4.2 robust", peers::EmbreeIsa::sse42, peers::EmbreeMode::robust}};
+    for (std::size_t i = 0; with_peers && i < std::size(variants); ++i) {
+        sides.push_back({variants[i].name, {}, 0, 0});
+    }
+#endif
+    for (int run = 0; run < runs; ++run) {
+        sse::FirstHits ours = sse::cast_primary_rays(scene, options);
+        sides[0].seconds.push_back(ours.tracing_cpu_seconds);
+        sides[0].rays = ours.rays;
+        sides[0].hits = ours.hits;
+#if TWINRAY_WITH_EMBREE
+        for (std::size_t i = 0; i + 1 < sides.size(); ++i) {
+            peers::EmbreePeer peer(scene, width, variants[i].isa, variants[i].mode);
+            peers::FirstHitRun theirs = peer.cast_single();
+            sides[i + 1].seconds.push_back(theirs.seconds);
+            sides[i + 1].rays = theirs.rays;
+            sides[i + 1].hits = theirs.hits;
+        }
+#endif
+    }
+    std::printf("%s: %llu primitives, %d runs, width %d\n", file.c_str(),
+                static_cast<unsigned long long>(scene.primitive_count()), runs, width);
+    // Ratios are taken within each round, then their median: this VM's speed drifts by a third over minutes,
+    // far more than the rounds of one side differ from each other.
+    for (const Side& side : sides) {
+        std::vector<double> ratios;
+        for (std::size_t round = 0; round < side.seconds.size(); ++round) {
+            ratios.push_back(side.seconds[round] / sides[0].seconds[round]);
+        }
+        const double ns = median(side.seconds) * 1e9 / static_cast<double>(side.rays);
+        std::printf("  %-22s %8.1f ns/ray  %5.2fx ours  %llu of %llu rays hit\n", side.name.c_str(), ns, median(ratios),
+                    static_cast<unsigned long long>(side.hits), static_cast<unsigned long long>(side.rays));
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int runs = 5;
+    int width = 640;
+    bool with_peers = true;
+    std::vector<std::string> files;
+    for (int i = 1; i < argc; ++i) {
+        const std::string argument = argv[i];
+        if ((argument == "--runs" || argument == "--width") && i + 1 < argc) {
+            const int value = std::atoi(argv[++i]);
+            if (value < 1) {
+                std::fprintf(stderr, "first_hit_benchmark: %s wants a positive whole number\n", argument.c_str());
+                return 2;
+            }
+            (argument == "--runs" ? runs : width) = value;
+        } else if (argument == "--no-peers") {
+            with_peers = false;
+        } else if (argument.rfind("--", 0) == 0) {
+            std::fprintf(stderr, "first_hit_benchmark: unknown option %s\n", argument.c_str());
+            return 2;
+        } else {
+            files.push_back(argument);
+        }
+    }
+    if (files.empty()) {
+        std::fprintf(stderr, "usage: first_hit_benchmark [--runs N] [--width W] [--no-peers] SCENE...\n");
+        return 2;
+    }
+    try {
+        for (const std::string& file : files) {
+            time_scene(file, runs, width, with_peers);
+        }
+    } catch (const std::exception& error) {
+        std::fprintf(stderr, "first_hit_benchmark: %s\n", error.what());
+        return 1;
+    }
+    return 0;
+}
