@@ -555,7 +555,8 @@ TEST_F(Bvh, FastPrecisionImagesAreBitIdenticalWithAndWithoutBvh) {
     Scene scene = generated_scene("csg", 2000);
     scene.width = 96;
     scene.height = 64;
-    twinray::sse::Precision fast{true, true, false, true, true};
+    twinray::sse::Precision fast{
+        .fast_rcp = true, .fast_rsqrt = true, .textbook_quadratic = true, .flush_denormals = true};
     RenderOptions options;
     options.threads = 2;
     options.accel = Accel::none;

@@ -333,8 +333,12 @@ TEST_F(CliTest, BenchWritesItsTablesAsCsvAndMarkdown) {
     while (std::getline(csv, line)) {
         ++rows;
     }
-    EXPECT_EQ(rows, 10) << "one row per configuration";
+    EXPECT_EQ(rows, 11) << "one row per configuration";
     EXPECT_TRUE(fs::exists(output("bench-summary.csv")));
+    std::ifstream summary(output("bench-summary.csv"));
+    std::string summary_text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
+    EXPECT_NE(summary_text.find("watertight leaks per M"), std::string::npos) << summary_text;
+    EXPECT_NE(summary_text.find("sse exact,"), std::string::npos) << summary_text;
     std::ifstream markdown(output("bench.md"));
     std::string text((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
     EXPECT_NE(text.find("| spheres | sse rcp |"), std::string::npos) << text;

@@ -47,19 +47,6 @@ std::vector<fs::path> far_scene_files() {
     return files;
 }
 
-// Every combination of knobs the SSE tracer is built for (sse::precision_is_built), ftz included.
-std::vector<twinray::sse::Precision> built_knob_combinations() {
-    std::vector<twinray::sse::Precision> built;
-    for (int knobs = 0; knobs < 32; ++knobs) {
-        twinray::sse::Precision precision{(knobs & 1) != 0, (knobs & 2) != 0, (knobs & 4) != 0, (knobs & 8) != 0,
-                                          (knobs & 16) != 0};
-        if (twinray::sse::precision_is_built(precision)) {
-            built.push_back(precision);
-        }
-    }
-    return built;
-}
-
 twinray::RenderOptions small_image(const twinray::scene::Scene& scene) {
     twinray::RenderOptions options;
     options.width = image_width;
@@ -116,7 +103,7 @@ TEST_P(FarFromTheOrigin, SseImageStaysWithinTheUntranslatedScenesToleranceForEve
         std::printf("[ measured ] %s moved %g: reference-float %.2f%% of pixels over %.4g, max %.4f\n",
                     GetParam().stem().c_str(), shift, 100.0 * naive.fail_pixels / naive.pixel_count, tolerance_.fail,
                     naive.max_error);
-        for (const twinray::sse::Precision& precision : built_knob_combinations()) {
+        for (const twinray::sse::Precision& precision : twinray::sse::every_built_precision()) {
             twinray::compare::Metrics metrics = twinray::compare::measure(
                 expected, twinray::compare::clamped(twinray::sse::render(moved, options, precision).image), tolerance_);
             double percent = 100.0 * metrics.fail_pixels / metrics.pixel_count;

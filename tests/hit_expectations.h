@@ -95,20 +95,16 @@ inline std::string camel_case(const std::string& knobs) {
     return name;
 }
 
-// Both references, then the SSE tracer with every combination of its five knobs that precision_is_built.
+// Both references, then the SSE tracer with every combination of its knobs that precision_is_built.
 inline std::vector<TracerUnderTest> every_tracer() {
     std::vector<TracerUnderTest> tracers;
     for (TracerKind kind : {TracerKind::reference_double, TracerKind::reference_float}) {
         std::string name = kind == TracerKind::reference_double ? "ReferenceDouble" : "ReferenceFloat";
         tracers.push_back({kind, {}, name, hit_tolerance(kind, {})});
     }
-    for (int knobs = 0; knobs < 32; ++knobs) {
-        sse::Precision precision{(knobs & 1) != 0, (knobs & 2) != 0, (knobs & 4) != 0, (knobs & 8) != 0,
-                                 (knobs & 16) != 0};
-        if (sse::precision_is_built(precision)) {
-            tracers.push_back({TracerKind::sse, precision, "Sse" + camel_case(sse::precision_name(precision)),
-                               hit_tolerance(TracerKind::sse, precision)});
-        }
+    for (const sse::Precision& precision : sse::every_built_precision()) {
+        tracers.push_back({TracerKind::sse, precision, "Sse" + camel_case(sse::precision_name(precision)),
+                           hit_tolerance(TracerKind::sse, precision)});
     }
     return tracers;
 }

@@ -154,14 +154,14 @@ struct KnobCase {
     Precision precision;
     double t_relative_bound;
     bool must_change_t;
+    const char* scene = "complete2.json";  // in scenes/: one the knob changes (mt changes triangles only)
 };
 
 class KnobAgainstExact : public PrecisionTest, public ::testing::WithParamInterface<KnobCase> {};
 
 TEST_P(KnobAgainstExact, ChangesSomeResultsYetStaysWithinItsBound) {
     const KnobCase& knob = GetParam();
-    twinray::scene::Scene scene =
-        twinray::scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "scenes" / "complete2.json");
+    twinray::scene::Scene scene = twinray::scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "scenes" / knob.scene);
     const int width = 200, height = scene.height * width / scene.width;
     twinray::sse::Tracer exact(scene), fast(scene, knob.precision);
     auto expected =
@@ -194,12 +194,18 @@ TEST_P(KnobAgainstExact, ChangesSomeResultsYetStaysWithinItsBound) {
     EXPECT_LE(over_share, 0.01);
 }
 
-INSTANTIATE_TEST_SUITE_P(Knobs, KnobAgainstExact,
-                         ::testing::Values(KnobCase{"rcp", {.fast_rcp = true}, 1e-4, true},
-                                           KnobCase{"rsqrt", {.fast_rsqrt = true}, 1e-4, true},
-                                           KnobCase{"textbook", {.textbook_quadratic = true}, 1e-2, true},
-                                           KnobCase{"fast", {true, true, false, true, true}, 1e-2, true}),
-                         [](const ::testing::TestParamInfo<KnobCase>& knob) { return std::string(knob.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Knobs, KnobAgainstExact,
+    ::testing::Values(KnobCase{"rcp", {.fast_rcp = true}, 1e-4, true},
+                      KnobCase{"rsqrt", {.fast_rsqrt = true}, 1e-4, true},
+                      KnobCase{"textbook", {.textbook_quadratic = true}, 1e-2, true},
+                      KnobCase{"mt", {.moller_trumbore = true}, 1e-4, true, "meshes.json"},
+                      KnobCase{
+                          "fast",
+                          {.fast_rcp = true, .fast_rsqrt = true, .textbook_quadratic = true, .flush_denormals = true},
+                          1e-2,
+                          true}),
+    [](const ::testing::TestParamInfo<KnobCase>& knob) { return std::string(knob.param.name); });
 
 // The dpps tracer renders the very image of the exact one (its dot products round alike).
 TEST_F(PrecisionTest, DppsRenderIsBitIdenticalToTheExactOne) {

@@ -79,6 +79,8 @@ void add_precision_options(CLI::App& command, sse::Precision& precision) {
     command.add_flag("--dpps", precision.dpps, "sse: dot products transposed to AoS and _mm_dp_ps (the thesis's way)");
     command.add_flag("--textbook-quadratic", precision.textbook_quadratic,
                      "sse: textbook quadratic b^2 - ac instead of the cancellation-free form");
+    command.add_flag("--moller-trumbore", precision.moller_trumbore,
+                     "sse: triangles by Moller-Trumbore, not watertight, instead of the sheared watertight test");
     command.add_flag("--ftz", precision.flush_denormals, "sse: flush denormals to zero (MXCSR FTZ and DAZ)");
     command
         .add_option_function<std::string>(

@@ -36,9 +36,8 @@ std::vector<Judged> judged_tracers() {
     if (!sse::cpu_supports_sse41()) {
         return tracers;
     }
-    for (int knobs = 0; knobs < 16; ++knobs) {
-        sse::Precision precision{(knobs & 1) != 0, (knobs & 2) != 0, (knobs & 4) != 0, (knobs & 8) != 0, false};
-        if (!sse::precision_is_built(precision)) {
+    for (const sse::Precision& precision : sse::every_built_precision()) {
+        if (precision.flush_denormals) {
             continue;
         }
         tracers.push_back({"sse " + sse::precision_name(precision), [precision](const scene::Scene& scene) {

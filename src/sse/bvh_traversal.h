@@ -258,7 +258,7 @@ void for_each_span_in_leaf(const CompiledScene& scene, BvhLeaf leaf, const RayPa
             continue;
         }
         if (item.list == triangle_list) {
-            TriangleHit4 crossing = crossing_of<P>(scene.triangles.items[item.index], *sheared);
+            TriangleHit4 crossing = triangle_crossing<P>(scene.triangles.items[item.index], *sheared);
             if (any(crossing.valid)) {
                 visit_triangle(crossing, item.index);
             }

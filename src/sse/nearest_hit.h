@@ -82,7 +82,7 @@ std::optional<ShearedRays> sheared_for(const CompiledScene& scene, const RayPack
 template <typename P, typename Visit>
 void for_each_triangle_crossing(const TriangleList& triangles, const ShearedRays& rays, Visit&& visit) {
     for (std::size_t i = 0; i < triangles.items.size(); ++i) {
-        TriangleHit4 crossing = crossing_of<P>(triangles.items[i], rays);
+        TriangleHit4 crossing = triangle_crossing<P>(triangles.items[i], rays);
         if (any(crossing.valid)) {
             visit(crossing, static_cast<std::uint32_t>(i));
         }

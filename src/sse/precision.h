@@ -12,12 +12,14 @@
 
 namespace twinray::sse {
 
-template <bool FastReciprocal, bool FastInverseSqrt, bool AosDotProduct, bool TextbookQuadratic>
+template <bool FastReciprocal, bool FastInverseSqrt, bool AosDotProduct, bool TextbookQuadratic,
+          bool MollerTrumbore = false>
 struct PrecisionPolicy {
     static constexpr bool fast_rcp = FastReciprocal;               // _mm_rcp_ps + one Newton step for 1/x and a/b
     static constexpr bool fast_rsqrt = FastInverseSqrt;            // _mm_rsqrt_ps + one Newton step for 1/|v|
     static constexpr bool dpps = AosDotProduct;                    // transpose to one 3-vector per register, _mm_dp_ps
     static constexpr bool textbook_quadratic = TextbookQuadratic;  // b² − a·c and (−b ± √Δ)/a
+    static constexpr bool moller_trumbore = MollerTrumbore;        // triangles by Möller–Trumbore (triangle.h)
 };
 
 using ExactPrecision = PrecisionPolicy<false, false, false, false>;

@@ -72,7 +72,7 @@ void for_each_triangle_crossing_in_file_order(const TriangleList& triangles, con
         return;
     }
     for (std::uint32_t place : triangles.file_order) {
-        TriangleHit4 crossing = crossing_of<P>(triangles.items[place], rays);
+        TriangleHit4 crossing = triangle_crossing<P>(triangles.items[place], rays);
         if (any(crossing.valid)) {
             visit(crossing, place);
         }

@@ -50,7 +50,7 @@ RayPacket single_ray_packet(const RelativeRay& ray) {
 
 int knob_bits(const Precision& precision) {
     return (precision.fast_rcp ? 1 : 0) | (precision.fast_rsqrt ? 2 : 0) | (precision.dpps ? 4 : 0) |
-           (precision.textbook_quadratic ? 8 : 0);
+           (precision.textbook_quadratic ? 8 : 0) | (precision.moller_trumbore ? 16 : 0);
 }
 
 // The kernels compiled in, one instantiation each: exact, each knob alone, and the three that buy speed
@@ -72,6 +72,7 @@ decltype(auto) with_precision_policy(const Precision& precision, Visit&& visit) 
             case 2: return visit(PrecisionPolicy<false, true, false, false>{});
             case 4: return visit(PrecisionPolicy<false, false, true, false>{});
             case 8: return visit(PrecisionPolicy<false, false, false, true>{});
+            case 16: return visit(PrecisionPolicy<false, false, false, false, true>{});
             case 11: return visit(PrecisionPolicy<true, true, false, true>{});
             default:
                 throw std::invalid_argument("the SSE tracer is not built for the knobs " + precision_name(precision) +
@@ -84,11 +85,23 @@ decltype(auto) with_precision_policy(const Precision& precision, Visit&& visit) 
 
 bool precision_is_built(const Precision& precision) {
     int knobs = knob_bits(precision);
-    return knobs == 0 || knobs == 1 || knobs == 2 || knobs == 4 || knobs == 8 || knobs == 11;
+    return knobs == 0 || knobs == 1 || knobs == 2 || knobs == 4 || knobs == 8 || knobs == 16 || knobs == 11;
 }
 
 std::string built_precisions() {
-    return "exact, rcp, rsqrt, dpps, textbook, rcp+rsqrt+textbook (each also with ftz)";
+    return "exact, rcp, rsqrt, dpps, textbook, mt, rcp+rsqrt+textbook (each also with ftz)";
+}
+
+std::vector<Precision> every_built_precision() {
+    std::vector<Precision> built;
+    for (int knobs = 0; knobs < 64; ++knobs) {
+        Precision precision{(knobs & 1) != 0, (knobs & 2) != 0,  (knobs & 4) != 0,
+                            (knobs & 8) != 0, (knobs & 16) != 0, (knobs & 32) != 0};
+        if (precision_is_built(precision)) {
+            built.push_back(precision);
+        }
+    }
+    return built;
 }
 
 std::string precision_name(const Precision& precision) {
@@ -102,6 +115,7 @@ std::string precision_name(const Precision& precision) {
     add(precision.fast_rsqrt, "rsqrt");
     add(precision.dpps, "dpps");
     add(precision.textbook_quadratic, "textbook");
+    add(precision.moller_trumbore, "mt");
     add(precision.flush_denormals, "ftz");
     return name.empty() ? "exact" : name;
 }

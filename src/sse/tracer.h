@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace twinray::sse {
 
@@ -41,7 +42,7 @@ struct Hit {
 };
 
 // The speed/accuracy knobs (docs/performance.md). The default is the exact tracer; each knob trades
-// accuracy for speed. The four kernel knobs select a separately compiled tracer (precision.h), built
+// accuracy for speed. The five kernel knobs select a separately compiled tracer (precision.h), built
 // for exact, each knob alone and rcp+rsqrt+textbook (precision_is_built); flush_denormals is a run-time
 // MXCSR setting, combinable with any of them.
 struct Precision {
@@ -49,6 +50,7 @@ struct Precision {
     bool fast_rsqrt = false;          // normalisation: _mm_rsqrt_ps + one Newton step instead of sqrt, divide
     bool dpps = false;                // dot products: transposed to AoS and _mm_dp_ps instead of SoA
     bool textbook_quadratic = false;  // b² − ac instead of the cancellation-free discriminant
+    bool moller_trumbore = false;     // triangles: Möller–Trumbore, not watertight, instead of the sheared test
     bool flush_denormals = false;     // MXCSR flush-to-zero and denormals-are-zero while tracing
 
     bool operator==(const Precision&) const = default;
@@ -58,6 +60,8 @@ struct Precision {
 // with std::invalid_argument naming the combinations that are.
 bool precision_is_built(const Precision& precision);
 std::string built_precisions();
+// Every combination precision_is_built, each without and with flush_denormals: what the suites judge.
+std::vector<Precision> every_built_precision();
 // "exact", or the knobs joined by '+' ("rcp+rsqrt+ftz").
 std::string precision_name(const Precision& precision);
 

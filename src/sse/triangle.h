@@ -34,8 +34,9 @@ inline TriangleRecord make_triangle(const scene::MeshData& mesh, std::uint32_t t
 // |component| (then kx, ky follow cyclically, a right-handed frame) and the shear that makes the direction
 // (0, 0, 1): x' = x_kx − Sx·x_kz, y' = x_ky − Sy·x_kz, z' = Sz·x_kz.
 struct ShearedRays {
-    Vec3x4 permuted_origin;   // (o_kx, o_ky, o_kz) per lane
-    vbool4 kz_is_x, kz_is_y;  // else z
+    Vec3x4 origin, direction;  // as given, for the Möller–Trumbore knob
+    Vec3x4 permuted_origin;    // (o_kx, o_ky, o_kz) per lane
+    vbool4 kz_is_x, kz_is_y;   // else z
     vfloat4 shear_x, shear_y, shear_z;
     vbool4 towards_positive_kz;  // d_kz > 0: the frame's +z is the ray's direction, not its reverse
     // Where the four lanes share kz (primary and shadow rays nearly always do), a vertex is permuted once for
@@ -46,6 +47,8 @@ struct ShearedRays {
     template <typename P>
     static ShearedRays of(const RayPacket& rays) {
         ShearedRays out;
+        out.origin = rays.origin;
+        out.direction = rays.direction;
         Vec3x4 size = abs(rays.direction);
         out.kz_is_x = (size.x >= size.y) & (size.x >= size.z);
         out.kz_is_y = !out.kz_is_x & (size.y >= size.z);
@@ -147,6 +150,41 @@ TWINRAY_KERNEL TriangleHit4 crossing_of(const TriangleRecord& triangle, const Sh
     vbool4 front = select_mask(all_positive, rays.towards_positive_kz, !rays.towards_positive_kz);
     hit.front = mutated<Mutant::triangle_winding_flipped> ? !front : front;
     return hit;
+}
+
+// The precision knob `mt` (docs/performance.md): Möller and Trumbore's test (JGT 1997), the one most tracers
+// ship: barycentrics from two cross products and one reciprocal of the determinant shared by the three
+// numerators, each triangle's edges from its own vertices. Not watertight: a ray through the edge two
+// triangles share gets each triangle's barycentric rounded its own way, so it may pass between them or hit
+// both (its leak rate is measured by `twinray watertight` and in the bench's summary). Never the default.
+template <typename P>
+TWINRAY_KERNEL TriangleHit4 moller_trumbore_crossing(const TriangleRecord& triangle, const ShearedRays& rays) {
+    Vec3x4 edge1 = broadcast(triangle.b - triangle.a), edge2 = broadcast(triangle.c - triangle.a);
+    Vec3x4 p = math::cross(rays.direction, edge2);
+    vfloat4 det = dot<P>(edge1, p);
+    vfloat4 inverse = reciprocal<P>(det);
+    Vec3x4 s = rays.origin - broadcast(triangle.a);
+    vfloat4 u = dot<P>(s, p) * inverse;
+    Vec3x4 q = math::cross(s, edge1);
+    vfloat4 v = dot<P>(rays.direction, q) * inverse;
+    vfloat4 zero(0.0f), one(1.0f);
+    TriangleHit4 hit;
+    hit.t = dot<P>(edge2, q) * inverse;
+    hit.valid =
+        !(det == zero) & (u >= zero) & (v >= zero) & (u + v <= one) & (hit.t > zero) & (abs(hit.t) < vfloat4(infinity));
+    // det = edge1·(d × edge2) = −d·n with n = edge1 × edge2: positive where the ray meets the front.
+    hit.front = det > zero;
+    return hit;
+}
+
+// The triangle test the precision policy chooses: the watertight one, or Möller–Trumbore for the `mt` knob.
+template <typename P>
+TWINRAY_KERNEL TriangleHit4 triangle_crossing(const TriangleRecord& triangle, const ShearedRays& rays) {
+    if constexpr (P::moller_trumbore) {
+        return moller_trumbore_crossing<P>(triangle, rays);
+    } else {
+        return crossing_of<P>(triangle, rays);
+    }
 }
 
 }  // namespace twinray::sse
