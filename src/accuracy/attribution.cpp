@@ -49,25 +49,36 @@ double dot3(const Vec3d& a, const Vec3d& b) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-// The radius of curvature of a leaf's surface: a normal turns by lateral/radius when the point moves by
-// `lateral` along it; flat surfaces do not turn (infinite radius).
+// What turns a leaf's normal as its hit point moves: its primitive, whose radius of curvature at a point each
+// primitive type gives (scene::curvature_radius), or a mesh's shading radius.
 struct Curvature {
-    double radius = infinity;
+    const scene::Object* primitive = nullptr;
+    double mesh_radius = infinity;
+
+    double radius_at(const Vec3d& point) const {
+        if (primitive == nullptr) {
+            return mesh_radius;
+        }
+        return std::visit(
+            [&](const auto& shape) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, scene::Csg>) {
+                    return infinity;  // never a leaf: its children are
+                } else {
+                    return scene::curvature_radius(shape, point);
+                }
+            },
+            primitive->shape);
+    }
 };
 
 void collect_curvatures(const scene::Object& object, std::vector<Curvature>& by_leaf) {
-    std::visit(
-        [&](const auto& shape) {
-            using S = std::decay_t<decltype(shape)>;
-            if constexpr (std::is_same_v<S, scene::Csg>) {
-                for (const scene::Object& child : shape.children) {
-                    collect_curvatures(child, by_leaf);
-                }
-            } else if constexpr (std::is_same_v<S, scene::Sphere> || std::is_same_v<S, scene::Cylinder>) {
-                by_leaf[static_cast<std::size_t>(object.leaf)].radius = shape.radius;
-            }
-        },
-        object.shape);
+    if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
+        for (const scene::Object& child : csg->children) {
+            collect_curvatures(child, by_leaf);
+        }
+        return;
+    }
+    by_leaf[static_cast<std::size_t>(object.leaf)].primitive = &object;
 }
 
 // A smooth mesh shades with normals interpolated along its edges: they turn by the angle between two
@@ -97,7 +108,7 @@ std::vector<Curvature> curvatures(const scene::Scene& scene) {
         collect_curvatures(object, by_leaf);
     }
     for (const scene::Mesh& mesh : scene.meshes) {
-        by_leaf[static_cast<std::size_t>(mesh.leaf)].radius = shading_radius(*mesh.data);
+        by_leaf[static_cast<std::size_t>(mesh.leaf)].mesh_radius = shading_radius(*mesh.data);
     }
     return by_leaf;
 }
@@ -123,7 +134,7 @@ Band band_along(const scene::Scene& scene, const std::vector<Curvature>& curvatu
         if (!a.hit) {
             break;
         }
-        add_hit(band, a, curvature[static_cast<std::size_t>(a.leaf)].radius);
+        add_hit(band, a, curvature[static_cast<std::size_t>(a.leaf)].radius_at(a.point));
         if (k + 1 == path.size()) {
             break;
         }

@@ -85,6 +85,11 @@ inline Plane rounded_to_float(const Plane& plane) {
 inline double largest_coordinate(const Plane& plane) {
     return std::fabs(plane.offset);
 }
+// The radius of curvature at a point of the surface: a normal turns by lateral/radius as the point moves by
+// `lateral` (attribution's bands); flat faces do not turn.
+inline double curvature_radius(const Plane&, const Vec3&) {
+    return std::numeric_limits<double>::infinity();
+}
 // own rounding γ(2)·|p|∞ + γ(1)·|d|, spawn offset γ(15)·|p'|∞ + γ(2)·|d| (reference/plane.h derives them).
 template <typename T>
 math::SurfaceBounds<T> surface_bounds_of_plane(T offset) {
@@ -109,6 +114,9 @@ inline Sphere rounded_to_float(const Sphere& sphere) {
 }
 inline double largest_coordinate(const Sphere& sphere) {
     return std::max(largest_coordinate(sphere.center), sphere.radius);
+}
+inline double curvature_radius(const Sphere& sphere, const Vec3&) {
+    return sphere.radius;
 }
 // own rounding γ(5)·r + γ(2)·|p|∞, spawn offset γ(9)·r + γ(4)·|p'|∞ (reference/sphere.h derives them).
 template <typename T>
@@ -136,6 +144,16 @@ inline Cylinder rounded_to_float(const Cylinder& cylinder) {
 inline double largest_coordinate(const Cylinder& cylinder) {
     return std::max(largest_coordinate(cylinder.base), largest_coordinate(cylinder.cap));
 }
+// The side's radius; a flat cap's none: the point is on a cap where it lies nearer a cap's plane than the side.
+inline double curvature_radius(const Cylinder& cylinder, const Vec3& point) {
+    Vec3 axis = cylinder.cap - cylinder.base;
+    double length = std::sqrt(math::dot(axis, axis));
+    double along = math::dot(point - cylinder.base, axis) / length;
+    Vec3 radial = (point - cylinder.base) - (along / length) * axis;
+    double from_side = std::fabs(std::sqrt(math::dot(radial, radial)) - cylinder.radius);
+    double from_cap = std::min(std::fabs(along), std::fabs(length - along));
+    return from_cap < from_side ? std::numeric_limits<double>::infinity() : cylinder.radius;
+}
 // own rounding γ(5)·(r + h) + γ(2)·|p|∞, spawn offset γ(12)·(r + h) + γ(4)·|p'|∞ (reference/cylinder.h).
 template <typename T>
 math::SurfaceBounds<T> surface_bounds_of_cylinder(T radius, T height) {
@@ -157,6 +175,9 @@ inline Box moved(const Box& box, double scale, const Vec3& shift) {
 }
 inline Box rounded_to_float(const Box& box) {
     return {rounded_to_float(box.min), rounded_to_float(box.max)};
+}
+inline double curvature_radius(const Box&, const Vec3&) {
+    return std::numeric_limits<double>::infinity();
 }
 inline double largest_coordinate(const Box& box) {
     return std::max(largest_coordinate(box.min), largest_coordinate(box.max));

@@ -87,6 +87,7 @@ public:
             if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
                 CsgObject compiled;
                 add_csg_node(compiled, *csg, out);
+                compiled.leaves.drop_culling_bounds();  // the object is culled by its bound
                 scene::Box bound = as_float_safe_box(scene::bounds(object));
                 compiled.bound = make_shape(bound);
                 item = {csg_list, static_cast<std::uint32_t>(out.csg_objects.size())};
@@ -149,6 +150,7 @@ private:
             }
         }
         put_in_leaf_order(out, unbounded, keep_triangle_file_order);
+        out.primitives.drop_culling_bounds();
     }
 
     // Moves the primitives and the triangles into the order of the BVH's leaves (the unbounded primitives

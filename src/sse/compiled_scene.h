@@ -35,7 +35,8 @@ using SurfaceOf = decltype(make_surface(std::declval<const S&>()));
 // Primitives of one type. `ids` are global leaf indices at top level and slots within a CSG object;
 // `transmission` is that of each primitive's material, for shadow rays.
 // `bound_centers`/`bound_radii` are a sphere around each primitive (radius +∞ for planes), for
-// culling whole tiles of primary rays.
+// culling whole tiles of primary rays: only lists every ray tests keep them (32 bytes a primitive); lists
+// found through the BVH and CSG objects' leaves drop them (drop_culling_bounds).
 template <typename Shape>
 struct PrimitiveList {
     using shape_type = Shape;
@@ -64,15 +65,23 @@ struct PrimitiveList {
         std::swap(items[i], items[j]);
         std::swap(ids[i], ids[j]);
         std::swap(transmission[i], transmission[j]);
-        std::swap(bound_centers[i], bound_centers[j]);
-        std::swap(bound_radii[i], bound_radii[j]);
+        if (!bound_centers.empty()) {
+            std::swap(bound_centers[i], bound_centers[j]);
+            std::swap(bound_radii[i], bound_radii[j]);
+        }
     }
     void push_back_from(const PrimitiveList& other, std::size_t i) {
         items.push_back(other.items[i]);
         ids.push_back(other.ids[i]);
         transmission.push_back(other.transmission[i]);
-        bound_centers.push_back(other.bound_centers[i]);
-        bound_radii.push_back(other.bound_radii[i]);
+        if (!other.bound_centers.empty()) {
+            bound_centers.push_back(other.bound_centers[i]);
+            bound_radii.push_back(other.bound_radii[i]);
+        }
+    }
+    void drop_culling_bounds() {
+        bound_centers = {};
+        bound_radii = {};
     }
 };
 
@@ -131,6 +140,9 @@ struct PrimitiveLists {
     template <typename Visit>
     void for_each(Visit&& visit) const {
         std::apply([&](const auto&... list) { (visit(list), ...); }, of_type);
+    }
+    void drop_culling_bounds() {
+        std::apply([](auto&... list) { (list.drop_culling_bounds(), ...); }, of_type);
     }
     // visit(mine, theirs) for each type's two lists.
     template <typename Visit>
