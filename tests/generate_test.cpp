@@ -40,8 +40,9 @@ using twinray::test::RunningTwinray;
 
 // The families of primitives the loader reads, and those of one triangle mesh, checked from their JSON.
 const std::vector<std::string> primitive_families = {"fractal", "field", "lattice", "csg"};
-const std::vector<std::string> mesh_families = {"sphere-mesh", "torus-mesh", "tetra", "sombrero", "triangle-soup"};
-const std::vector<std::string> closed_mesh_families = {"sphere-mesh", "torus-mesh", "tetra"};
+const std::vector<std::string> mesh_families = {"sphere-mesh",   "torus-mesh", "tetra", "sombrero",
+                                                "triangle-soup", "mount",      "gears"};
+const std::vector<std::string> closed_mesh_families = {"sphere-mesh", "torus-mesh", "tetra", "gears"};
 
 std::vector<std::string> all_families() {
     std::vector<std::string> all = primitive_families;
@@ -113,8 +114,16 @@ std::int64_t promised_triangles(const std::string& family, int size) {
         return triangles;
     }
     std::vector<std::int64_t> achievable;
+    if (family == "mount") {
+        for (std::int64_t four_to_the_depth = 1; four_to_the_depth <= 1 << 20; four_to_the_depth *= 4) {
+            achievable.push_back(2 * four_to_the_depth);
+        }
+        return nearest(achievable, size);
+    }
     for (std::int64_t n = 1; n <= 1000; ++n) {
-        if (family == "sphere-mesh" && n >= 2) {
+        if (family == "gears") {
+            achievable.push_back(380 * n * n);
+        } else if (family == "sphere-mesh" && n >= 2) {
             achievable.push_back(4 * n * (n - 1));
         } else if (family == "torus-mesh" && n >= 3) {
             achievable.push_back(6 * n * n);
@@ -134,11 +143,20 @@ struct Mesh {
     std::vector<Point> normals;  // empty for a flat mesh
 };
 
-// A mesh family's scene read with nlohmann json, not our loader: its objects must be the floor and one mesh.
+// Besides the floor and the mesh: SPD's mount has its pyramid of glass spheres.
+int spheres_beside_the_mesh(const std::string& family) {
+    return family == "mount" ? 4 : 0;
+}
+
+// A mesh family's scene read with nlohmann json, not our loader: its objects must be the floor, one mesh and
+// only spheres after it.
 Mesh read_mesh(const std::string& text) {
     const nlohmann::json scene = nlohmann::json::parse(text);
     const nlohmann::json& objects = scene.at("objects");
-    EXPECT_EQ(objects.size(), 2u);
+    EXPECT_GE(objects.size(), 2u);
+    for (std::size_t i = 2; i < objects.size(); ++i) {
+        EXPECT_EQ(objects.at(i).at("type"), "sphere") << "object " << i;
+    }
     EXPECT_EQ(objects.at(0).at("type"), "plane");
     const nlohmann::json& object = objects.at(1);
     EXPECT_EQ(object.at("type"), "mesh");
@@ -280,7 +298,7 @@ TEST_P(PrimitiveFamily, GeneratedScenesRenderWithBothTracers) {
 TEST_P(MeshFamily, MeshScenesAreTheFloorAndOneMeshOfTheTrianglesTheRulePromises) {
     for (int size : {1, 2, 3, 10, 11, 99, 1000, 5000, 30000, 100000, max_generated_primitives}) {
         Generated generated = generate(GetParam(), size);
-        EXPECT_EQ(generated.scene.primitives, 2) << "--size " << size;
+        EXPECT_EQ(generated.scene.primitives, 2 + spheres_beside_the_mesh(GetParam())) << "--size " << size;
         EXPECT_EQ(generated.scene.triangles, promised_triangles(GetParam(), size)) << "--size " << size;
         if (size > 30000) {
             continue;
@@ -384,6 +402,263 @@ TEST_F(GenerateTest, SombreroIsOneSheetFacingUp) {
     }
 }
 
+// The mountain's outline is the square |x|, |z| <= 3 and the floor is below every vertex. Each interior edge is
+// shared by exactly two triangles crossing it in opposite directions, so the midpoints are shared and there
+// are no cracks; the 4n edges crossed once lie along the outline; the fronts face up and tile the square.
+TEST_F(GenerateTest, MountIsOneSheetFacingUpWhoseOnlyBoundaryIsItsOutline) {
+    for (int size : {2, 8, 1000, 30000}) {
+        Mesh mesh = read_mesh(generate("mount", size).text);
+        const auto quads_per_side = static_cast<std::size_t>(std::llround(std::sqrt(mesh.triangles.size() / 2.0)));
+        ASSERT_EQ(2 * quads_per_side * quads_per_side, mesh.triangles.size()) << size;
+        EXPECT_EQ(mesh.vertices.size(), (quads_per_side + 1) * (quads_per_side + 1)) << size;
+        std::map<std::pair<std::size_t, std::size_t>, int> directed_edges;
+        double projected_area = 0;
+        for (const auto& [a, b, c] : mesh.triangles) {
+            for (auto edge : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+                ++directed_edges[edge];
+            }
+            Point normal = cross(minus(mesh.vertices[b], mesh.vertices[a]), minus(mesh.vertices[c], mesh.vertices[a]));
+            ASSERT_GT(normal[1], 0) << size;
+            projected_area += normal[1] / 2;
+        }
+        EXPECT_NEAR(projected_area, 36, 1e-6) << size;
+        std::size_t repeated = 0, on_the_outline = 0, crossed_once_inside = 0;
+        for (const auto& [edge, uses] : directed_edges) {
+            repeated += uses != 1 ? 1 : 0;
+            if (directed_edges.count({edge.second, edge.first}) == 0) {
+                const Point& from = mesh.vertices[edge.first];
+                const Point& to = mesh.vertices[edge.second];
+                const bool along_outline =
+                    (std::fabs(from[0]) == 3 && to[0] == from[0]) || (std::fabs(from[2]) == 3 && to[2] == from[2]);
+                ++(along_outline ? on_the_outline : crossed_once_inside);
+            }
+        }
+        EXPECT_EQ(repeated, 0u) << size;
+        EXPECT_EQ(crossed_once_inside, 0u) << size;
+        EXPECT_EQ(on_the_outline, 4 * quads_per_side) << size;
+        for (const Point& vertex : mesh.vertices) {
+            ASSERT_GT(vertex[1], 0) << size;
+        }
+    }
+}
+
+// Midpoint displacement makes a mountain, not a plain: from its outline at the foot, 0.05 above the floor, it
+// rises to 2 at the square's centre (the first midpoint, which no later level moves), its heights varied at
+// every scale but never above 2 + 0.6·(1 + 1/2 + 1/4 + …) = 3.2; another seed draws another mountain.
+TEST_F(GenerateTest, MountRisesFromItsOutlineToASummitOverTheMiddle) {
+    std::vector<std::vector<Point>> mountains;
+    for (std::uint64_t seed : {1, 2, 3}) {
+        Mesh mesh = read_mesh(generate("mount", 30000, seed).text);
+        double highest = 0, outline_highest = 0, centre_height = 0;
+        std::vector<double> heights;
+        for (const Point& vertex : mesh.vertices) {
+            highest = std::max(highest, vertex[1]);
+            heights.push_back(vertex[1]);
+            if (std::fabs(vertex[0]) == 3 || std::fabs(vertex[2]) == 3) {
+                outline_highest = std::max(outline_highest, vertex[1]);
+            }
+            if (vertex[0] == 0 && vertex[2] == 0) {
+                centre_height = vertex[1];
+            }
+        }
+        EXPECT_EQ(outline_highest, 0.05) << seed;
+        EXPECT_EQ(centre_height, 2) << seed;
+        EXPECT_LT(highest, 3.2) << seed;
+        std::sort(heights.begin(), heights.end());
+        const auto distinct = std::unique(heights.begin(), heights.end()) - heights.begin();
+        EXPECT_GT(distinct, static_cast<std::ptrdiff_t>(mesh.vertices.size() / 2)) << seed;
+        mountains.push_back(mesh.vertices);
+    }
+    EXPECT_NE(mountains[0], mountains[1]);
+    EXPECT_NE(mountains[1], mountains[2]);
+}
+
+// SPD's pyramid of four glass spheres: three touching around an axis and one resting on them, every one above
+// the mountain (higher than any vertex within its radius and a grid step, which bounds the triangles there).
+TEST_F(GenerateTest, MountsGlassSpheresAreAPyramidClearOfTheMountain) {
+    for (int size : {8, 1000, 30000}) {
+        const std::string text = generate("mount", size).text;
+        const nlohmann::json scene = nlohmann::json::parse(text);
+        Mesh mesh = read_mesh(text);
+        const double cell = 6 / std::sqrt(mesh.triangles.size() / 2.0);
+        std::vector<std::pair<Point, double>> spheres;
+        for (const nlohmann::json& object : scene.at("objects")) {
+            if (object.at("type") == "sphere") {
+                spheres.emplace_back(object.at("center").get<Point>(), object.at("radius").get<double>());
+                const nlohmann::json& material = scene.at("materials").at(object.at("material").get<std::string>());
+                EXPECT_GT(material.at("transmission").get<double>(), 0.5) << size;
+                EXPECT_EQ(material.at("ior").get<double>(), 1.5) << size;
+            }
+        }
+        ASSERT_EQ(spheres.size(), 4u) << size;
+        for (std::size_t i = 0; i < spheres.size(); ++i) {
+            const auto& [center, radius] = spheres[i];
+            for (std::size_t j = i + 1; j < spheres.size(); ++j) {
+                const Point between = minus(spheres[j].first, center);
+                EXPECT_NEAR(std::sqrt(dot(between, between)), 2 * radius, 2e-3) << size << ": " << i << ", " << j;
+            }
+            for (const Point& vertex : mesh.vertices) {
+                if (std::fabs(vertex[0] - center[0]) <= radius + cell &&
+                    std::fabs(vertex[2] - center[2]) <= radius + cell) {
+                    ASSERT_LT(vertex[1], center[1] - radius) << size << ": sphere " << i;
+                }
+            }
+        }
+        EXPECT_GT(spheres[3].first[1], spheres[0].first[1] + spheres[0].second) << "the fourth rests on the three";
+    }
+}
+
+// The outlines of one face: the edges of the face's triangles that no other of them shares, chained.
+std::vector<std::vector<std::size_t>> outlines(const std::vector<Triangle>& face) {
+    std::map<std::pair<std::size_t, std::size_t>, int> directed_edges;
+    for (const auto& [a, b, c] : face) {
+        for (auto edge : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+            ++directed_edges[edge];
+        }
+    }
+    std::map<std::size_t, std::size_t> next;
+    for (const auto& [edge, uses] : directed_edges) {
+        if (directed_edges.count({edge.second, edge.first}) == 0) {
+            EXPECT_EQ(next.count(edge.first), 0u) << "two outline edges leave vertex " << edge.first;
+            next[edge.first] = edge.second;
+        }
+    }
+    std::vector<std::vector<std::size_t>> loops;
+    while (!next.empty()) {
+        std::vector<std::size_t> loop = {next.begin()->first};
+        for (std::size_t at = next.begin()->second; at != loop.front(); at = next.at(at)) {
+            loop.push_back(at);
+        }
+        for (std::size_t corner : loop) {
+            next.erase(corner);
+        }
+        loops.push_back(loop);
+    }
+    return loops;
+}
+
+// Each gear's top and bottom are one concave polygon of 96 corners (24 teeth, the two corners at each tooth's
+// root reflex) cut into 94 triangles, all facing the polygon's way (up for the top, down for the bottom), whose
+// areas add up to the polygon's: they cover it once, with no overlap and no gap.
+TEST_F(GenerateTest, GearFacesAreConcavePolygonsTiledByTrianglesFacingTheirWay) {
+    for (int size : {1, 1000, 20000}) {
+        Mesh mesh = read_mesh(generate("gears", size).text);
+        double top = mesh.vertices.front()[1], bottom = top;
+        for (const Point& vertex : mesh.vertices) {
+            top = std::max(top, vertex[1]);
+            bottom = std::min(bottom, vertex[1]);
+        }
+        const std::size_t gears = mesh.triangles.size() / 380;
+        for (double face_height : {top, bottom}) {
+            SCOPED_TRACE(face_height == top ? "top" : "bottom");
+            const double up = face_height == top ? 1 : -1;  // the side the face's front must face
+            std::vector<Triangle> face;
+            std::map<std::size_t, double> triangle_area_at_corner;  // each triangle's area, at its first corner
+            for (const Triangle& triangle : mesh.triangles) {
+                const auto& [a, b, c] = triangle;
+                if (mesh.vertices[a][1] == face_height && mesh.vertices[b][1] == face_height &&
+                    mesh.vertices[c][1] == face_height) {
+                    face.push_back(triangle);
+                    Point normal =
+                        cross(minus(mesh.vertices[b], mesh.vertices[a]), minus(mesh.vertices[c], mesh.vertices[a]));
+                    ASSERT_GT(up * normal[1], 0) << size;
+                    triangle_area_at_corner[a] += up * normal[1] / 2;
+                }
+            }
+            EXPECT_EQ(face.size(), 94 * gears) << size;
+            const std::vector<std::vector<std::size_t>> loops = outlines(face);
+            ASSERT_EQ(loops.size(), gears) << size;
+            for (const std::vector<std::size_t>& loop : loops) {
+                ASSERT_EQ(loop.size(), 96u) << size;
+                double polygon_area = 0, triangles_area = 0;
+                int reflex = 0;
+                for (std::size_t i = 0; i < loop.size(); ++i) {
+                    const Point& previous = mesh.vertices[loop[(i + loop.size() - 1) % loop.size()]];
+                    const Point& corner = mesh.vertices[loop[i]];
+                    const Point& next = mesh.vertices[loop[(i + 1) % loop.size()]];
+                    polygon_area += up * cross(corner, next)[1] / 2;
+                    reflex += up * cross(minus(corner, previous), minus(next, corner))[1] < 0 ? 1 : 0;
+                    triangles_area += triangle_area_at_corner[loop[i]];
+                }
+                EXPECT_EQ(reflex, 48) << size;
+                EXPECT_GT(polygon_area, 0) << size;
+                EXPECT_NEAR(triangles_area, polygon_area, 1e-9 * polygon_area) << size;
+            }
+        }
+    }
+}
+
+// Meshing: each gear's teeth reach past its neighbours' tips into their gaps (some of its corners lie within
+// their tip circles), yet no outline edge of one crosses another's, seen from above.
+TEST_F(GenerateTest, NeighbouringGearsMeshWithoutOverlapping) {
+    for (int size : {1000, 4000}) {
+        Mesh mesh = read_mesh(generate("gears", size).text);
+        double top = 0;
+        for (const Point& vertex : mesh.vertices) {
+            top = std::max(top, vertex[1]);
+        }
+        std::vector<Triangle> top_face;
+        for (const Triangle& triangle : mesh.triangles) {
+            if (mesh.vertices[triangle[0]][1] == top && mesh.vertices[triangle[1]][1] == top &&
+                mesh.vertices[triangle[2]][1] == top) {
+                top_face.push_back(triangle);
+            }
+        }
+        struct Gear {
+            std::vector<Point> outline;
+            Point centre;
+            double tip_radius;
+        };
+        std::vector<Gear> gears;
+        for (const std::vector<std::size_t>& loop : outlines(top_face)) {
+            Gear gear{{}, {0, 0, 0}, 0};
+            for (std::size_t corner : loop) {
+                gear.outline.push_back(mesh.vertices[corner]);
+                for (int axis : {0, 2}) {
+                    gear.centre[axis] += mesh.vertices[corner][axis] / static_cast<double>(loop.size());
+                }
+            }
+            for (const Point& corner : gear.outline) {
+                const Point out = minus(corner, gear.centre);
+                gear.tip_radius = std::max(gear.tip_radius, std::hypot(out[0], out[2]));
+            }
+            gears.push_back(gear);
+        }
+        // The sign of the turn a → b → c seen from above.
+        auto turn = [](const Point& a, const Point& b, const Point& c) { return cross(minus(b, a), minus(c, a))[1]; };
+        int neighbour_pairs = 0;
+        for (const Gear& one : gears) {
+            for (const Gear& other : gears) {
+                const Point between = minus(other.centre, one.centre);
+                const double distance = std::hypot(between[0], between[2]);
+                if (&one == &other || distance > one.tip_radius + other.tip_radius) {
+                    continue;
+                }
+                ++neighbour_pairs;
+                int reaching_in = 0;
+                for (const Point& corner : one.outline) {
+                    const Point out = minus(corner, other.centre);
+                    reaching_in += std::hypot(out[0], out[2]) < other.tip_radius ? 1 : 0;
+                }
+                EXPECT_GT(reaching_in, 0) << size;
+                for (std::size_t i = 0; i < one.outline.size(); ++i) {
+                    const Point& a = one.outline[i];
+                    const Point& b = one.outline[(i + 1) % one.outline.size()];
+                    for (std::size_t j = 0; j < other.outline.size(); ++j) {
+                        const Point& c = other.outline[j];
+                        const Point& d = other.outline[(j + 1) % other.outline.size()];
+                        const bool crossing = turn(a, b, c) * turn(a, b, d) <= 0 && turn(c, d, a) * turn(c, d, b) <= 0;
+                        ASSERT_FALSE(crossing) << size << ": edges " << i << " and " << j;
+                    }
+                }
+            }
+        }
+        // Each of the g × g gears and its neighbours along the rows and columns, counted from both sides.
+        const int per_side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(gears.size()))));
+        EXPECT_EQ(neighbour_pairs, 4 * per_side * (per_side - 1)) << size;
+    }
+}
+
 // FNV-1a, written out so that the recorded values below mean the same on every platform.
 std::uint64_t fnv1a(const std::string& text) {
     std::uint64_t hash = 0xcbf29ce484222325ULL;
@@ -408,6 +683,9 @@ TEST_F(GenerateTest, GeneratedFilesAreTheRecordedBytes) {
         {"tetra", 0xa70ec72b63980dfaULL},
         {"sombrero", 0x5506656a6874c8e9ULL},
         {"triangle-soup", 0x2c327230d7695e39ULL},
+        // mount's heights are sums and halves of splitmix64's doubles; gears' faces are the ear clipper's.
+        {"mount", 0xa2d087384e902c6eULL},
+        {"gears", 0x5fd2f4fc20dbb6b0ULL},
     };
     for (const auto& [family, hash] : recorded) {
         EXPECT_EQ(fnv1a(generate(family, 300, 1).text), hash) << family;
@@ -415,7 +693,7 @@ TEST_F(GenerateTest, GeneratedFilesAreTheRecordedBytes) {
 }
 
 TEST_F(GenerateTest, DifferentSeedsGiveDifferentFields) {
-    for (const char* family : {"field", "csg", "triangle-soup"}) {
+    for (const char* family : {"field", "csg", "triangle-soup", "mount"}) {
         Generated one = generate(family, 400, 1);
         Generated two = generate(family, 400, 2);
         EXPECT_NE(one.text, two.text) << family;

@@ -54,7 +54,7 @@ int run_generate(const GenerateArguments& arguments) {
     const fs::path mesh_file = format.empty() ? fs::path() : mesh_file_path(output, format);
     if (!format.empty() && !is_mesh_family(arguments.family)) {
         std::cerr << "twinray generate: --mesh-file applies to the mesh families (sphere-mesh, torus-mesh, tetra, "
-                     "sombrero, triangle-soup); "
+                     "sombrero, triangle-soup, mount, gears); "
                   << arguments.family << " writes no mesh\n";
         return exit_usage;
     }
@@ -122,10 +122,15 @@ void add_generate_command(CLI::App& app, std::function<int()>& run) {
         "  tetra          the Sierpinski tetrahedron of depth d (SPD \"tetra\"), 4^d closed tetrahedra; the\n"
         "                 largest 4 x 4^d not above --size (4 below that)\n"
         "  sombrero       the height field sin(r)/r over n x n quads, open, smooth; the 2n^2 nearest --size\n"
-        "  triangle-soup  random triangles in a cube; exactly --size");
+        "  triangle-soup  random triangles in a cube; exactly --size\n"
+        "  mount          a fractal mountain (SPD \"mount\"): a square of two triangles subdivided d times by\n"
+        "                 midpoint displacement, open, flat, and four glass spheres; the 2 x 4^d nearest --size\n"
+        "  gears          a g x g grid of meshing 24-tooth gears (SPD \"gears\"), closed prisms whose concave\n"
+        "                 faces are ear-clipped, flat; the 380g^2 nearest --size");
     command
         ->add_option("family", arguments->family,
-                     "fractal, field, lattice, csg, sphere-mesh, torus-mesh, tetra, sombrero or triangle-soup")
+                     "fractal, field, lattice, csg, sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup, mount "
+                     "or gears")
         ->required()
         ->check(CLI::IsMember(generated_family_names()));
     command

@@ -14,7 +14,7 @@ struct Family {
     bool writes_mesh;
 };
 
-const std::array<Family, 9> families = {{
+const std::array<Family, 11> families = {{
     {"fractal", generate::write_fractal, false},
     {"field", generate::write_field, false},
     {"lattice", generate::write_lattice, false},
@@ -24,6 +24,8 @@ const std::array<Family, 9> families = {{
     {"tetra", generate::write_tetra, true},
     {"sombrero", generate::write_sombrero, true},
     {"triangle-soup", generate::write_triangle_soup, true},
+    {"mount", generate::write_mount, true},
+    {"gears", generate::write_gears, true},
 }};
 
 }  // namespace

@@ -21,11 +21,11 @@ constexpr int max_generated_primitives = 1'000'000;
 static_assert(static_cast<std::size_t>(max_generated_primitives) <= scene::max_scene_primitives);
 constexpr int default_generated_primitives = 1000;
 
-// fractal, field, lattice, csg, sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup: the order in which
-// help and messages list them.
+// fractal, field, lattice, csg, sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup, mount, gears: the order
+// in which help and messages list them.
 const std::vector<std::string>& generated_family_names();
 
-// Whether the family writes a mesh (sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup).
+// Whether the family writes a mesh (sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup, mount, gears).
 bool is_mesh_family(std::string_view family);
 
 struct GeneratedScene {
@@ -42,14 +42,19 @@ struct GeneratedScene {
 //   3abc − ab − bc − ca cylinders) is nearest `size`;
 // - csg: exactly `size` (the floor and CSG objects of 2 to 5 primitives), except 3 for a size of 2.
 // The mesh families write the floor and one mesh (`{"type": "mesh", "vertices", "triangles"}`, and
-// `"normals"` and `"smooth": true` for a curved one), `size` counting its triangles:
+// `"normals"` and `"smooth": true` for a curved one), mount four glass spheres after it, `size` counting the
+// mesh's triangles:
 // - sphere-mesh: a UV sphere of b bands from pole to pole and 2b slices, the poles fans, shared vertices:
 //   the 4b(b − 1) triangles (b >= 2) nearest `size`;
 // - torus-mesh: 3n segments around the ring, n around the tube, shared vertices: the 6n² (n >= 3) nearest;
 // - tetra: the Sierpinski tetrahedron of depth d, 4^d tetrahedra each its own closed shell: the largest
 //   4·4^d triangles not above `size`, or 4 (d = 0) below that;
 // - sombrero: the height field sin(r)/r over n × n quads, an open surface: the 2n² nearest;
-// - triangle-soup: exactly `size` random triangles, three vertices each.
+// - triangle-soup: exactly `size` random triangles, three vertices each;
+// - mount: SPD's fractal mountain, a square of two triangles subdivided d times by midpoint displacement, an
+//   open surface, shared vertices: the 2·4^d (d >= 0) nearest `size`;
+// - gears: SPD's gears, a g × g grid of 24-tooth gears, each a closed prism of two concave faces (94
+//   triangles each) and 96 side quads: the 380g² (g >= 1) nearest.
 // The closed meshes are counter-clockwise seen from outside. Ties go to the smaller scene. Throws std::invalid_argument for an unknown family or a size outside
 // 1..max_generated_primitives.
 GeneratedScene generate_scene(std::string_view family, int size, std::uint64_t seed, const SceneSink& sink);

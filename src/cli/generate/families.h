@@ -17,5 +17,7 @@ GeneratedScene write_torus_mesh(int size, std::uint64_t seed, const SceneSink& s
 GeneratedScene write_tetra(int size, std::uint64_t seed, const SceneSink& sink);
 GeneratedScene write_sombrero(int size, std::uint64_t seed, const SceneSink& sink);
 GeneratedScene write_triangle_soup(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_mount(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_gears(int size, std::uint64_t seed, const SceneSink& sink);
 
 }  // namespace twinray::cli::generate

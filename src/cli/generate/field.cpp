@@ -64,15 +64,7 @@ GeneratedScene write_field(int size, std::uint64_t seed, const SceneSink& sink) 
     scene::Scene header = framed_scene({0, 0.5, 0}, std::fmax(2, half_side), {0.5, 0.85, 0.9});
     add_palette(header, field_palette, random);
     add_material(header, "mirror", metal({0.9, 0.92, 0.95}, 0.8));
-    scene::Material glass;
-    glass.ambient = 0;
-    glass.diffuse = 0.05;
-    glass.phong = 0.8;
-    glass.phong_size = 120;
-    glass.reflection = 0.1;
-    glass.transmission = 0.85;
-    glass.ior = 1.5;
-    add_material(header, "glass", glass);
+    add_material(header, "glass", glass());
     SceneTextWriter out(sink, default_decimals);
     out.begin(header);
     write_floor(out);

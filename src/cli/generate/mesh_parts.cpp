@@ -46,4 +46,9 @@ void grid_triangles(int rows, int columns, const std::function<int(int, int)>& v
     }
 }
 
+void SquareGrid::triangles(const TriangleEmitter& emit) const {
+    grid_triangles(
+        quads_per_side, quads_per_side, [&](int row, int column) { return vertex(row, column); }, emit);
+}
+
 }  // namespace twinray::cli::generate

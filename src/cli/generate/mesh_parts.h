@@ -1,5 +1,6 @@
 // What the mesh families of `twinray generate` share: a sine and cosine that are the same bits on every
-// machine, and the triangles of a grid of quads (a sphere's bands, a torus, a height field).
+// machine, the triangles of a grid of quads (a sphere's bands, a torus, a height field, a prism's sides) and
+// the square grid of a height field.
 #pragma once
 
 #include "cli/generate/scene_text_writer.h"
@@ -24,5 +25,17 @@ SineCosine sine_cosine(double angle);
 // column), both triangles counter-clockwise seen from the side the column direction × the row direction
 // points to; a triangle with two corners on one vertex (beside a pole) is left out.
 void grid_triangles(int rows, int columns, const std::function<int(int, int)>& vertex, const TriangleEmitter& emit);
+
+// A height field's grid over the square |x|, |z| <= half_width: (n + 1)² vertices, row by row, rows along x and
+// columns along z, which makes grid_triangles' front the top.
+struct SquareGrid {
+    int quads_per_side;
+    double half_width;
+
+    int vertex(int row, int column) const { return row * (quads_per_side + 1) + column; }
+    double coordinate(int index) const { return -half_width + 2 * half_width * index / quads_per_side; }
+    // The 2n² triangles, each quad cut along the same diagonal, fronts up.
+    void triangles(const TriangleEmitter& emit) const;
+};
 
 }  // namespace twinray::cli::generate

@@ -88,6 +88,18 @@ scene::Material metal(Vec3 color, double reflection) {
     return material;
 }
 
+scene::Material glass() {
+    scene::Material material;
+    material.ambient = 0;
+    material.diffuse = 0.05;
+    material.phong = 0.8;
+    material.phong_size = 120;
+    material.reflection = 0.1;
+    material.transmission = 0.85;
+    material.ior = 1.5;
+    return material;
+}
+
 void add_palette(scene::Scene& scene, int count, SplitMix64& random) {
     for (int i = 0; i < count; ++i) {
         Vec3 color = random_color(random);

@@ -37,6 +37,7 @@ int add_material(scene::Scene& scene, std::string name, const scene::Material& m
 Vec3 random_color(SplitMix64& random);
 scene::Material plastic(Vec3 color);
 scene::Material metal(Vec3 color, double reflection);
+scene::Material glass();
 
 // Materials 2 .. 1 + count, each plastic or (one in three) metal of a seeded colour.
 void add_palette(scene::Scene& scene, int count, SplitMix64& random);

@@ -22,17 +22,13 @@ std::int64_t sombrero_triangles(int quads_per_side) {
 }
 
 struct HeightField {
-    int quads_per_side;
-
-    int vertex(int row, int column) const { return row * (quads_per_side + 1) + column; }
-    // Rows run along x and columns along z, which makes grid_triangles' front the top.
-    double coordinate(int index) const { return -half_width + 2 * half_width * index / quads_per_side; }
+    SquareGrid grid;
 
     template <typename Emit>
     void each_vertex(Emit emit) const {
-        for (int row = 0; row <= quads_per_side; ++row) {
-            for (int column = 0; column <= quads_per_side; ++column) {
-                const double x = coordinate(row), z = coordinate(column);
+        for (int row = 0; row <= grid.quads_per_side; ++row) {
+            for (int column = 0; column <= grid.quads_per_side; ++column) {
+                const double x = grid.coordinate(row), z = grid.coordinate(column);
                 const double u = ripple * std::sqrt(x * x + z * z);
                 const SineCosine wave = sine_cosine(u);
                 const double height = u == 0 ? 1 : wave.sine / u;
@@ -50,24 +46,20 @@ struct HeightField {
 
 GeneratedScene write_sombrero(int size, std::uint64_t seed, const SceneSink& sink) {
     SplitMix64 random(seed);
-    const HeightField field{nearest_parameter(1, size, sombrero_triangles)};
+    const HeightField field{{nearest_parameter(1, size, sombrero_triangles), half_width}};
     scene::Scene header = framed_scene({0, base_height + 0.4, 0}, half_width + 0.3, {0.45, 0.8, 0.85});
     const int material = add_material(header, "sombrero", plastic(random_color(random)));
-    SceneTextWriter out(sink, decimals_resolving(2 * half_width / field.quads_per_side));
+    SceneTextWriter out(sink, decimals_resolving(2 * half_width / field.grid.quads_per_side));
     out.begin(header);
     write_floor(out);
     out.mesh({[&](const PointEmitter& emit) { field.each_vertex([&](Vec3 point, Vec3) { emit(point); }); },
-              [&](const TriangleEmitter& emit) {
-                  grid_triangles(
-                      field.quads_per_side, field.quads_per_side,
-                      [&](int row, int column) { return field.vertex(row, column); }, emit);
-              },
+              [&](const TriangleEmitter& emit) { field.grid.triangles(emit); },
               [&](const PointEmitter& emit) { field.each_vertex([&](Vec3, Vec3 normal) { emit(normal); }); }},
              material);
     out.end();
     return {out.primitives(), out.triangles(),
-            std::to_string(out.triangles()) + " triangles: " + std::to_string(field.quads_per_side) + " x " +
-                std::to_string(field.quads_per_side) + " quads"};
+            std::to_string(out.triangles()) + " triangles: " + std::to_string(field.grid.quads_per_side) + " x " +
+                std::to_string(field.grid.quads_per_side) + " quads"};
 }
 
 }  // namespace twinray::cli::generate
