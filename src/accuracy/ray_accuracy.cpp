@@ -98,28 +98,36 @@ RefRay reference_ray_at(const scene::Scene& scene, double px, double py, int wid
     return {camera.eye, reference::normalize(camera.forward + u * camera.right + v * camera.up)};
 }
 
-bool in_silhouette_band(const reference::Tracer<double>& reference, const scene::Scene& scene, int x, int y, int width,
-                        int height, const std::optional<RefHit>& centre) {
-    const double shifts[4][2] = {{band_pixels, 0}, {-band_pixels, 0}, {0, band_pixels}, {0, -band_pixels}};
-    for (const auto& shift : shifts) {
-        RefRay ray = reference_ray_at(scene, x + 0.5 + shift[0], y + 0.5 + shift[1], width, height);
-        if (!same_answer(centre, reference.intersect(ray)))
-            return true;
-    }
-    return false;
-}
+namespace {
 
-bool in_triangle_band(const reference::Tracer<double>& reference, const scene::Scene& scene, int x, int y, int width,
-                      int height, const RefHit& centre) {
+// Whether `differs` holds for the reference's answer to any of the four rays shifted by band_pixels from
+// pixel (x, y)'s centre on the image plane: the one walk both bands take.
+template <typename Differs>
+bool any_shifted_ray(const reference::Tracer<double>& reference, const scene::Scene& scene, int x, int y, int width,
+                     int height, Differs&& differs) {
     const double shifts[4][2] = {{band_pixels, 0}, {-band_pixels, 0}, {0, band_pixels}, {0, -band_pixels}};
     for (const auto& shift : shifts) {
-        std::optional<RefHit> shifted =
-            reference.intersect(reference_ray_at(scene, x + 0.5 + shift[0], y + 0.5 + shift[1], width, height));
-        if (!shifted || shifted->leaf != centre.leaf || shifted->triangle != centre.triangle) {
+        if (differs(
+                reference.intersect(reference_ray_at(scene, x + 0.5 + shift[0], y + 0.5 + shift[1], width, height)))) {
             return true;
         }
     }
     return false;
+}
+
+}  // namespace
+
+bool in_silhouette_band(const reference::Tracer<double>& reference, const scene::Scene& scene, int x, int y, int width,
+                        int height, const std::optional<RefHit>& centre) {
+    return any_shifted_ray(reference, scene, x, y, width, height,
+                           [&](const std::optional<RefHit>& shifted) { return !same_answer(centre, shifted); });
+}
+
+bool in_triangle_band(const reference::Tracer<double>& reference, const scene::Scene& scene, int x, int y, int width,
+                      int height, const RefHit& centre) {
+    return any_shifted_ray(reference, scene, x, y, width, height, [&](const std::optional<RefHit>& shifted) {
+        return !shifted || shifted->leaf != centre.leaf || shifted->triangle != centre.triangle;
+    });
 }
 
 RayAccuracy measure_rays(const std::vector<std::optional<FirstHit>>& expected, const FirstHitOf& actual, int width,

@@ -49,6 +49,8 @@ void check_normal_count(std::int64_t normals, std::int64_t vertices) {
 
 }  // namespace
 
+// std::to_chars's shortest form is exact by the standard, unlike printf's "%g" and iostreams'
+// precision, whose last digit each standard library has rounded its own way.
 void append_shortest(std::string& text, double value) {
     char digits[64];
     auto [end, error] = std::to_chars(digits, digits + sizeof digits, value, std::chars_format::fixed);
@@ -71,8 +73,6 @@ SceneTextWriter::SceneTextWriter(SceneSink sink, int decimals) : sink_(std::move
 
 // k / 10^decimals is one correctly rounded division, so the result is the double nearest the decimal
 // k·10^-decimals, and the shortest text that reads back as it has at most that decimal's digits.
-// std::to_chars's shortest form is exact by the standard, unlike printf's "%g" and iostreams'
-// precision, whose last digit each standard library has rounded its own way.
 double SceneTextWriter::on_grid(double value) const {
     double rounded = std::round(value * grid_scale_) / grid_scale_;
     return rounded == 0 ? 0 : rounded;  // no "-0"
