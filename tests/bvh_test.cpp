@@ -375,6 +375,17 @@ TEST_F(Bvh, TransmissionFactorsFallBackToBruteForcePastCapacityWithTheSameAnswer
     }
 }
 
+// The scenes of the file-order tests up to their floor (objects follow): the light at the column's top and
+// three glasses whose transmissions multiply to different last bits in different orders.
+const std::string three_glasses_over_a_floor = R"({"format": "twinray-scene/1", "image": {"width": 32, "height": 24},
+  "camera": {"eye": [0, 6, 30], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 50},
+  "materials": {"matte": {"color": [0.8, 0.3, 0.2], "diffuse": 0.8},
+    "glass93": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.93, "ior": 1.5},
+    "glass81": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.81, "ior": 1.5},
+    "glass97": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.97, "ior": 1.5}},
+  "lights": [{"position": [-20, 30, 20], "color": [0.8, 0.8, 0.8]}],
+  "objects": [{"type": "plane", "normal": [0, 1, 0], "offset": -12, "material": "matte"})";
+
 // The fallback multiplies in file order although the compiled lists are in leaf order: the spheres of
 // veil_column, of three glasses, with their file order scattered along the column, so that the product in
 // leaf order differs from brute force's in its last bits (checked here, lest the test prove nothing).
@@ -383,14 +394,7 @@ TEST_F(Bvh, TransmissionFallbackMultipliesInFileOrderNotLeafOrder) {
     const std::size_t count = 150;
     const twinray::Vec3d floor(0, -12, 0), light(-20, 30, 20);
     const char* glasses[] = {"glass93", "glass81", "glass97"};
-    std::string text = R"({"format": "twinray-scene/1", "image": {"width": 32, "height": 24},
-      "camera": {"eye": [0, 6, 30], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 50},
-      "materials": {"matte": {"color": [0.8, 0.3, 0.2], "diffuse": 0.8},
-        "glass93": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.93, "ior": 1.5},
-        "glass81": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.81, "ior": 1.5},
-        "glass97": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.97, "ior": 1.5}},
-      "lights": [{"position": [-20, 30, 20], "color": [0.8, 0.8, 0.8]}],
-      "objects": [{"type": "plane", "normal": [0, 1, 0], "offset": -12, "material": "matte"})";
+    std::string text = three_glasses_over_a_floor;
     for (std::size_t i = 0; i < count; ++i) {
         std::size_t k = 1 + (i * 61) % count;  // 61 is prime to 150: every place on the column once
         twinray::Vec3d at = floor + (static_cast<double>(k) / static_cast<double>(count + 1)) * (light - floor);
@@ -447,14 +451,7 @@ TEST_F(Bvh, TriangleTransmissionsMultiplyInFileOrderNotLeafOrder) {
                     json::vec3(at + 0.3 * side - 0.3 * up) + ", " + json::vec3(at + 0.6 * up);
             ++in_mesh[i % 3];
         }
-        std::string text = R"({"format": "twinray-scene/1", "image": {"width": 32, "height": 24},
-          "camera": {"eye": [0, 6, 30], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 50},
-          "materials": {"matte": {"color": [0.8, 0.3, 0.2], "diffuse": 0.8},
-            "glass93": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.93, "ior": 1.5},
-            "glass81": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.81, "ior": 1.5},
-            "glass97": {"color": [1, 1, 1], "diffuse": 0.05, "transmission": 0.97, "ior": 1.5}},
-          "lights": [{"position": [-20, 30, 20], "color": [0.8, 0.8, 0.8]}],
-          "objects": [{"type": "plane", "normal": [0, 1, 0], "offset": -12, "material": "matte"})";
+        std::string text = three_glasses_over_a_floor;
         for (int m = 0; m < 3; ++m) {
             std::string triangles;
             for (std::size_t t = 0; t < in_mesh[m]; ++t) {
