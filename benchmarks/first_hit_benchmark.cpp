@@ -5,6 +5,7 @@
 // to ours within a round: the quick loop for work on the walk and the leaves (`bench --scaling` is the full
 // table).
 //   first_hit_benchmark [--runs N] [--width W] [--no-peers] SCENE...   (--no-peers: the SSE tracer alone, to profile)
+#include "math/median.h"
 #include "scene/loader.h"
 #include "sse/tracer.h"
 
@@ -23,11 +24,7 @@ namespace {
 
 using namespace twinray;
 
-double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    std::size_t middle = values.size() / 2;
-    return values.size() % 2 == 1 ? values[middle] : (values[middle - 1] + values[middle]) / 2;
-}
+using math::median;
 
 struct Side {
     std::string name;

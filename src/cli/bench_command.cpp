@@ -27,12 +27,6 @@
 
 namespace twinray::cli::bench {
 
-double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    std::size_t middle = values.size() / 2;
-    return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
-}
-
 std::vector<Timings> time_renders(const std::vector<Configuration>& configurations, const scene::Scene& scene,
                                   int width, int runs, std::vector<Image>* last_images, Accel accel) {
     std::vector<Timings> timings(configurations.size());

@@ -5,6 +5,7 @@
 
 #include "cli/bench_table.h"
 #include "image/image.h"
+#include "math/median.h"
 #include "scene/scene.h"
 #include "sse/tracer.h"
 
@@ -49,7 +50,7 @@ inline sse::Precision all_fast_knobs() {
     return {.fast_rcp = true, .fast_rsqrt = true, .textbook_quadratic = true, .flush_denormals = true};
 }
 
-double median(std::vector<double> values);
+using math::median;
 
 inline double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
