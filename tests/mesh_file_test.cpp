@@ -3,10 +3,13 @@
 // from Debian's assimp-testmodels package.
 #include "scene/mesh_file.h"
 #include "scene/loader.h"
+#include "scene/mesh_wire.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -340,6 +343,35 @@ TEST(MeshFileReader, MissingReaderIsAnError) {
     ASSERT_TRUE(error);
     EXPECT_EQ(error->problem(),
               "the mesh reader did not run: cannot start " + reader.program.string() + ": No such file or directory");
+}
+
+// A reader's message as the bytes it writes on its standard output.
+std::string as_reader_output(const wire::Message& message) {
+    const fs::path file = output_dir() / "reader_output.bin";
+    const int descriptor = ::open(file.c_str(), O_CREAT | O_TRUNC | O_RDWR | O_CLOEXEC, 0600);
+    EXPECT_GE(descriptor, 0);
+    EXPECT_TRUE(wire::send(descriptor, message));
+    ::close(descriptor);
+    std::ifstream in(file, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(MeshFileReader, ReceivingEndRefusesAZeroNormalThatTheLoaderWouldTurnIntoNaN) {
+    wire::Message message;
+    message.mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    message.mesh.triangles = {{0, 1, 2}};
+    message.mesh.normals = {{0, 0, 2}, {0, 0, 0}, {0, 0, 1}};
+    message.mesh.smooth = true;
+    try {
+        mesh_from_reader_output("model.obj", as_reader_output(message), limit);
+        ADD_FAILURE() << "a zero normal from the reader was accepted";
+    } catch (const SceneError& error) {
+        EXPECT_EQ(error.problem(), "the mesh reader sent a malformed result: a normal of zero length");
+    }
+    message.mesh.normals[1] = {0, 0, 1e-300};
+    const MeshFileResult received = mesh_from_reader_output("model.obj", as_reader_output(message), limit);
+    EXPECT_EQ(received.mesh.normals[1].z, 1e-300);
+    EXPECT_EQ(received.mesh.file, "model.obj");
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -2,6 +2,7 @@
 
 #include "scene/loader.h"
 #include "scene/mesh_wire.h"
+#include "scene/read_values.h"
 #include "scene/reader_process.h"
 #include "scene/refusal.h"
 
@@ -94,6 +95,10 @@ MeshFileResult checked(wire::Message message, std::size_t max_triangles) {
         !std::all_of(mesh.normals.begin(), mesh.normals.end(), finite)) {
         wrong("a value that is not finite");
     }
+    // The loader makes normals unit length: a zero one would become NaN.
+    if (std::any_of(mesh.normals.begin(), mesh.normals.end(), is_zero)) {
+        wrong("a normal of zero length");
+    }
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const auto& [a, b, c] = mesh.triangles[t];
         if (std::max({a, b, c}) >= mesh.vertices.size()) {
@@ -146,22 +151,26 @@ MeshFileResult read_mesh_file(const std::filesystem::path& file, std::size_t max
                          "the mesh reader failed on this file (exit status " + std::to_string(outcome.status) + ")" +
                              last_words(outcome.errors));
     }
-    const auto malformed = [&name](const std::runtime_error& error) {
-        return SceneError(name, "", std::string("the mesh reader sent a malformed result: ") + error.what());
+    return mesh_from_reader_output(name, std::move(outcome.output), limit);
+}
+
+MeshFileResult mesh_from_reader_output(const std::string& file, std::string output, std::size_t max_triangles) {
+    const auto malformed = [&file](const std::runtime_error& error) {
+        return SceneError(file, "", std::string("the mesh reader sent a malformed result: ") + error.what());
     };
     wire::Message message;
     try {
-        message = wire::receive(outcome.output);
+        message = wire::receive(output);
     } catch (const std::runtime_error& error) {
         throw malformed(error);
     }
-    outcome.output = std::string();  // its memory back before the mesh is checked
+    output = std::string();  // its memory back before the mesh is checked
     if (message.kind == wire::Kind::refusal) {
-        throw SceneError(name, message.texts[0], message.texts[1]);
+        throw SceneError(file, message.texts[0], message.texts[1]);
     }
     try {
-        MeshFileResult result = checked(std::move(message), limit);
-        result.mesh.file = name;
+        MeshFileResult result = checked(std::move(message), max_triangles);
+        result.mesh.file = file;
         return result;
     } catch (const std::runtime_error& error) {
         throw malformed(error);

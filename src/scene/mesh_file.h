@@ -44,6 +44,12 @@ struct MeshReader {
 MeshFileResult read_mesh_file(const std::filesystem::path& file, std::size_t max_triangles);
 MeshFileResult read_mesh_file(const std::filesystem::path& file, std::size_t max_triangles, const MeshReader& reader);
 
+// The reader process's standard output (scene/mesh_wire.h) as the mesh of `file`, trusting none of it: a
+// refusal becomes its SceneError; bytes that are no message, counts past what they hold or past the limit, an
+// index out of range, a value that is not finite or normals that do not match the vertices become a SceneError
+// saying the result was malformed. Degenerate triangles (a repeated index) are listed here.
+MeshFileResult mesh_from_reader_output(const std::string& file, std::string output, std::size_t max_triangles);
+
 // Edges are vertex pairs after welding vertices at bit-identical positions (so that an OBJ or PLY file with a
 // vertex repeated per face, as STL always has, is judged by its shape); degenerate triangles are left out.
 struct MeshTopology {
