@@ -2,6 +2,7 @@
 // it and nothing else, every shipped scene loads, and the values the loader fills in (defaults, the
 // normalised plane normal, material inheritance, leaf numbering, the image size) are the documented ones.
 #include "scene/loader.h"
+#include "scene/scene_stream.h"
 #include "scene/sphere_field.h"
 
 #include <gtest/gtest.h>
@@ -681,6 +682,38 @@ TEST(SceneLimits, EachTriangleOfAMeshCountsAsAPrimitive) {
     EXPECT_TRUE(error.problem().starts_with("its 2 triangles: more than the limit of 1 primitives")) << error.what();
 }
 
+// A mesh's rows are counted as the text is read: the triangles past the limit, the vertices and normals past three
+// per triangle of it, are refused at that row, before the rest of the array is held.
+TEST(SceneLimits, AMeshsRowsPastTheLimitAreRefusedAtTheRowAsTheyAreRead) {
+    const auto rows_of = [](std::string_view row, int count) {
+        std::string rows = repeated(std::string(row) + ", ", count);
+        return "[" + rows.substr(0, rows.size() - 2) + "]";
+    };
+    const auto mesh = [&](int vertices, int normals, int triangles) {
+        return "{ " + std::string(camera_block) +
+               R"(, "objects": [{ "type": "sphere", "center": [0, 0, 0], "radius": 1 },
+            { "type": "mesh", "vertices": )" +
+               rows_of("[0, 0, 1]", vertices) +
+               (normals > 0 ? R"(, "normals": )" + rows_of("[0, 0, 1]", normals) : "") + R"(, "triangles": )" +
+               rows_of("[0, 1, 2]", triangles) + " } ] }";
+    };
+    const SceneError triangles = refusal_with_limit(mesh(3, 0, 3), 2);
+    EXPECT_EQ(triangles.location(), "objects[1].triangles[2]") << triangles.what();
+    EXPECT_TRUE(triangles.problem().starts_with("triangle number 3 of a mesh: more than the limit of 2 primitives"))
+        << triangles.what();
+    const SceneError vertices = refusal_with_limit(mesh(7, 0, 1), 2);
+    EXPECT_EQ(vertices.location(), "objects[1].vertices[6]") << vertices.what();
+    EXPECT_EQ(vertices.problem(),
+              "vertex number 7 of a mesh: more than three per triangle of the limit of 2 primitives");
+    const SceneError normals = refusal_with_limit(mesh(6, 7, 1), 2);
+    EXPECT_EQ(normals.location(), "objects[1].normals[6]") << normals.what();
+    // Within the rows' bound, the reader's own counts as before: the sphere leaves 2 triangles of 3.
+    const SceneError reader = refusal_with_limit(mesh(3, 0, 3), 3);
+    EXPECT_EQ(reader.location(), "objects[1].triangles") << reader.what();
+    EXPECT_TRUE(reader.problem().starts_with("its 3 triangles: more than the limit of 2 primitives")) << reader.what();
+    EXPECT_EQ(parse_scene(mesh(6, 6, 1), "rows.json", 2).primitive_count(), 2u);
+}
+
 // Elements kept in the tree (objects before materials) are counted as the text is read: the tree stops
 // growing at the limit, before any primitive is read.
 TEST(SceneLimits, AKeptObjectsArrayIsRefusedAtTheElementPastTheLimit) {
@@ -780,6 +813,135 @@ TEST(SphereField, HasTheAskedSpheresNumberedAsLoadedAndIsTheSameForTheSameSeed) 
     Scene other = sphere_field(100, 8);
     EXPECT_EQ(std::get<Sphere>(again.objects[57].shape).center, std::get<Sphere>(field.objects[57].shape).center);
     EXPECT_NE(std::get<Sphere>(other.objects[57].shape).center, std::get<Sphere>(field.objects[57].shape).center);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The streaming reader keeps a top-level mesh's rows of three numbers packed (scene_stream.cpp): 9 bytes a
+// number instead of an entry a number and one a row, so an inline mesh of a million triangles is never a tree.
+
+namespace stream {
+
+// Keeps every element of "objects" in the tree.
+class KeepObjects final : public ObjectsReader {
+public:
+    bool stream_elements(const JsonTree&) override { return false; }
+    void element(JsonValue, JsonValue, std::size_t) override {}
+    std::size_t most_elements() const override { return 1'000'000; }
+};
+
+JsonTree tree_of(std::string_view text) {
+    JsonTree tree;
+    KeepObjects keep;
+    read_json(text, tree, keep);
+    return tree;
+}
+
+// Everything the tree holds of each entry but its key, as text.
+std::vector<std::string> entries_of(const JsonTree& tree) {
+    std::vector<std::string> entries;
+    for (std::size_t i = 0; i < tree.entry_count(); ++i) {
+        const JsonTree::Entry& e = tree.entry(i);
+        entries.push_back(std::to_string(static_cast<int>(e.kind)) + " end " + std::to_string(e.end) + " count " +
+                          std::to_string(e.count) + " rows " + std::to_string(e.rows) + " value " +
+                          JsonValue(tree, i).dump());
+    }
+    return entries;
+}
+
+std::string mesh_scene(std::string_view key, std::string_view rows) {
+    return R"({"objects": [{"type": "mesh", ")" + std::string(key) + R"(": )" + std::string(rows) + "}]}";
+}
+
+}  // namespace stream
+
+TEST(SceneStream, AMeshsRowsOfThreeNumbersArePackedNotAnEntryEach) {
+    std::string rows = "[[1.0, 7, -0], [1e300, -9007199254740992, 9007199254740992]";
+    for (int i = 0; i < 10000; ++i) {
+        rows += ", [" + std::to_string(i) + ", 0.5, 2]";
+    }
+    rows += "]";
+    const JsonTree tree = stream::tree_of(stream::mesh_scene("vertices", rows));
+    // The root, "objects", the mesh, its "type" and its "vertices": no entry for a row or a number.
+    ASSERT_EQ(tree.entry_count(), 5u);
+    const JsonValue vertices = *tree.root().find("objects")->first_child().find("vertices");
+    ASSERT_TRUE(vertices.is_packed_rows());
+    ASSERT_EQ(vertices.size(), 10002u);
+    EXPECT_EQ(tree.packed_size(), 3 * 10002u);
+    const std::array<std::string, 6> written = {"1.0", "7", "0", "1e+300", "-9007199254740992", "9007199254740992"};
+    const std::array<double, 6> values = {1.0, 7.0, 0.0, 1e300, -9007199254740992.0, 9007199254740992.0};
+    for (std::size_t i = 0; i < 6; ++i) {
+        EXPECT_EQ(vertices.row_dump(i / 3, i % 3), written[i]) << i;
+        EXPECT_EQ(vertices.row_number(i / 3, i % 3), values[i]) << i;
+    }
+    EXPECT_FALSE(std::signbit(vertices.row_number(0, 2))) << "-0 written as an integer is +0, as nlohmann reads it";
+    EXPECT_EQ(vertices.row_number(10001, 0), 9999.0);
+    EXPECT_EQ(vertices.row_dump(10001, 1), "0.5");
+}
+
+// Each case breaks the rows somewhere: the tree must be what it is for the same text under a key of the same
+// length that is never packed ("vertexes"), entry for entry.
+TEST(SceneStream, RowsThatAreNotAllThreeNumbersAreEntriesAsIfNeverPacked) {
+    const std::vector<std::string> cases = {
+        "[[0, 0, 0], [1, 2]]",
+        "[[0, 0, 0], [1, 2, 3, 4]]",
+        "[[0, 0, 0], [1, 2], [3, 4, 5]]",
+        "[[0, 0, 0], \"x\", [1, 2, 3]]",
+        "[[0, 0, 0], 5]",
+        "[[0, 0, 0], [1, [2], 3]]",
+        "[[0, 0, 0], [1, {\"a\": 2}, 3]]",
+        "[[0, 0, 0], [1, 2, 9007199254740993]]",
+        "[[0, 0, 0], [1, 2, -9007199254740993]]",
+        "[[0, 0, 0], [true, null, 1.5]]",
+        "[[]]",
+        "[]",
+        "[[0, 0, 0], []]",
+        "{\"a\": [[0, 0, 0]]}",
+    };
+    for (const std::string& rows : cases) {
+        const JsonTree packed = stream::tree_of(stream::mesh_scene("vertices", rows));
+        const JsonTree plain = stream::tree_of(stream::mesh_scene("vertexes", rows));
+        const JsonValue value = *packed.root().find("objects")->first_child().find("vertices");
+        const bool all_rows = rows == "[]";
+        EXPECT_EQ(value.is_packed_rows(), all_rows) << rows;
+        if (!all_rows) {
+            EXPECT_EQ(stream::entries_of(packed), stream::entries_of(plain)) << rows;
+            EXPECT_EQ(packed.packed_size(), 0u) << rows;
+        }
+    }
+}
+
+TEST(SceneStream, OnlyATopLevelObjectsVerticesTrianglesAndNormalsArePacked) {
+    const std::string rows = "[[0, 1, 2]]";
+    for (const std::string key : {"vertices", "triangles", "normals"}) {
+        const JsonTree tree = stream::tree_of(stream::mesh_scene(key, rows));
+        EXPECT_TRUE(tree.root().find("objects")->first_child().find(key)->is_packed_rows()) << key;
+    }
+    const JsonTree nested = stream::tree_of(R"({"objects": [{"type": "union", "children": [{"vertices": [[0, 1, 2]]}]}],
+                                                "vertices": [[0, 1, 2]]})");
+    EXPECT_EQ(nested.packed_size(), 0u);
+    EXPECT_EQ(nested.entry_count(), 16u) << "each row and number an entry of its own";
+}
+
+TEST(SceneStream, AStreamedMeshsPackedRowsAreDroppedWithIt) {
+    struct CountRows final : ObjectsReader {
+        bool stream_elements(const JsonTree&) override { return true; }
+        void element(JsonValue, JsonValue value, std::size_t) override {
+            rows.push_back(value.find("triangles")->size());
+            packed.push_back(tree->packed_size());
+        }
+        std::size_t most_elements() const override { return 1000; }
+        const JsonTree* tree = nullptr;
+        std::vector<std::size_t> rows, packed;
+    };
+    JsonTree tree;
+    CountRows count;
+    count.tree = &tree;
+    read_json(R"({"objects": [{"type": "mesh", "triangles": [[0, 1, 2], [2, 1, 0]]},
+                              {"type": "mesh", "triangles": [[0, 1, 2]]}]})",
+              tree, count);
+    EXPECT_EQ(count.rows, (std::vector<std::size_t>{2, 1}));
+    EXPECT_EQ(count.packed, (std::vector<std::size_t>{6, 3})) << "the first mesh's numbers were not dropped";
+    EXPECT_EQ(tree.packed_size(), 0u);
 }
 
 }  // namespace

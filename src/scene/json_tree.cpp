@@ -64,4 +64,23 @@ std::string JsonValue::dump() const {
     return "null";
 }
 
+bool JsonValue::is_packed_rows() const {
+    return tree_->entry(index_).rows;
+}
+
+double JsonValue::row_number(std::size_t row, std::size_t column) const {
+    return tree_->packed_number(tree_->entry(index_).text_offset + 3 * row + column);
+}
+
+std::string JsonValue::row_dump(std::size_t row, std::size_t column) const {
+    const std::size_t at = tree_->entry(index_).text_offset + 3 * row + column;
+    const double number = tree_->packed_number(at);
+    // Packed integers are exact in a double (scene_stream.cpp packs no others).
+    switch (tree_->packed_kind(at)) {
+        case JsonKind::signed_integer: return nlohmann::json(static_cast<std::int64_t>(number)).dump();
+        case JsonKind::unsigned_integer: return nlohmann::json(static_cast<std::uint64_t>(number)).dump();
+        default: return nlohmann::json(number).dump();
+    }
+}
+
 }  // namespace twinray::scene

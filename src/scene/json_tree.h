@@ -46,6 +46,13 @@ public:
     // A scalar as nlohmann::json writes it ("2.0", "\"text\"", "true"), for messages.
     std::string dump() const;
 
+    // An array of rows of three numbers held packed (JsonTree::Entry::rows): size() rows, read only through
+    // row_number and row_dump (its rows have no entries to walk with first_child).
+    bool is_packed_rows() const;
+    // Column 0, 1 or 2 of a packed row: as number() and dump() give a number.
+    double row_number(std::size_t row, std::size_t column) const;
+    std::string row_dump(std::size_t row, std::size_t column) const;
+
 private:
     const JsonTree* tree_;
     std::size_t index_;
@@ -62,6 +69,14 @@ public:
         std::size_t count = 0;  // containers: elements or members
         double number = 0;
         std::int64_t integer = 0;  // the exact value of an integer (an unsigned one bit for bit)
+        // An array whose rows of three numbers are in the packed block from `text_offset` on, not entries of
+        // their own: a mesh's vertices, triangles and normals (scene_stream.cpp), 9 bytes a number instead of
+        // 72 and a row's entry.
+        bool rows = false;
+    };
+    // Where the tree ends, to drop everything added after it (truncate).
+    struct Mark {
+        std::size_t entries = 0, pool_bytes = 0, packed = 0;
     };
 
     JsonValue root() const { return {*this, 0}; }
@@ -80,16 +95,29 @@ public:
         pool_.append(text);
         return pool_.size() - text.size();
     }
-    std::size_t pool_size() const { return pool_.size(); }
-    // Drops every entry from `entries` on and the pool from `pool_bytes` on, keeping the capacity.
-    void truncate(std::size_t entries, std::size_t pool_bytes) {
-        entries_.resize(entries);
-        pool_.resize(pool_bytes);
+    // A number of a packed row (Entry::rows); integers only where a double holds them exactly.
+    void pack(JsonKind kind, double number) {
+        packed_kinds_.push_back(kind);
+        packed_numbers_.push_back(number);
+    }
+    std::size_t packed_size() const { return packed_numbers_.size(); }
+    JsonKind packed_kind(std::size_t index) const { return packed_kinds_[index]; }
+    double packed_number(std::size_t index) const { return packed_numbers_[index]; }
+
+    Mark mark() const { return {entries_.size(), pool_.size(), packed_numbers_.size()}; }
+    // Drops everything added after `mark`, keeping the capacity.
+    void truncate(const Mark& mark) {
+        entries_.resize(mark.entries);
+        pool_.resize(mark.pool_bytes);
+        packed_kinds_.resize(mark.packed);
+        packed_numbers_.resize(mark.packed);
     }
 
 private:
     std::vector<Entry> entries_;
     std::string pool_;
+    std::vector<JsonKind> packed_kinds_;
+    std::vector<double> packed_numbers_;
 };
 
 }  // namespace twinray::scene

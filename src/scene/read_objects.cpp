@@ -124,7 +124,16 @@ std::vector<Vec3> area_weighted_normals(const MeshData& mesh) {
     return sums;
 }
 
+// Rows of three numbers; a top-level mesh's come packed (scene_stream.cpp), unless one is not three numbers.
 std::vector<Vec3> read_points(const Node& node, std::string_view expected) {
+    const JsonValue& rows = node.json();
+    if (rows.is_packed_rows()) {
+        std::vector<Vec3> points(rows.size());
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            points[i] = {rows.row_number(i, 0), rows.row_number(i, 1), rows.row_number(i, 2)};
+        }
+        return points;
+    }
     std::vector<Vec3> points;
     const std::vector<Node> elements = require_array(node, expected);
     points.reserve(elements.size());
@@ -134,7 +143,18 @@ std::vector<Vec3> read_points(const Node& node, std::string_view expected) {
     return points;
 }
 
-// Three indices of `vertex_count` vertices, integers written as JSON numbers.
+// One corner of a triangle: an index of `vertex_count` vertices, an integer written as a JSON number. `path` and
+// `written` give the corner's JSON path and its number as written, for the refusal.
+template <class Path, class Written>
+std::uint32_t require_vertex_index(double index, std::size_t vertex_count, const Path& path, const Written& written) {
+    if (!(std::floor(index) == index && index >= 0 && index < static_cast<double>(vertex_count))) {
+        refuse(path(), "must be a vertex index, an integer from 0 to " +
+                           std::to_string(static_cast<long long>(vertex_count) - 1) + " (the mesh has " +
+                           std::to_string(vertex_count) + " vertices), got " + written());
+    }
+    return static_cast<std::uint32_t>(index);
+}
+
 std::array<std::uint32_t, 3> read_triangle(const Node& node, std::size_t vertex_count) {
     const std::vector<Node> corners = require_array(node, "an array of 3 vertex indices");
     if (corners.size() != 3) {
@@ -142,14 +162,21 @@ std::array<std::uint32_t, 3> read_triangle(const Node& node, std::size_t vertex_
     }
     std::array<std::uint32_t, 3> triangle{};
     for (std::size_t i = 0; i < 3; ++i) {
-        const double index = require_number(corners[i]);
-        if (!(std::floor(index) == index && index >= 0 && index < static_cast<double>(vertex_count))) {
-            refuse(corners[i].path(), "must be a vertex index, an integer from 0 to " +
-                                          std::to_string(static_cast<long long>(vertex_count) - 1) + " (the mesh has " +
-                                          std::to_string(vertex_count) + " vertices), got " +
-                                          describe(corners[i].json()));
-        }
-        triangle[i] = static_cast<std::uint32_t>(index);
+        triangle[i] = require_vertex_index(
+            require_number(corners[i]), vertex_count, [&] { return corners[i].path(); },
+            [&] { return describe(corners[i].json()); });
+    }
+    return triangle;
+}
+
+// Row `row` of packed triangles (`triangles` is their array).
+std::array<std::uint32_t, 3> read_packed_triangle(const Node& triangles, std::size_t row, std::size_t vertex_count) {
+    const JsonValue& rows = triangles.json();
+    std::array<std::uint32_t, 3> triangle{};
+    for (std::size_t i = 0; i < 3; ++i) {
+        triangle[i] = require_vertex_index(
+            rows.row_number(row, i), vertex_count, [&] { return index_path(index_path(triangles.path(), row), i); },
+            [&] { return rows.row_dump(row, i); });
     }
     return triangle;
 }
@@ -168,17 +195,21 @@ MeshData read_inline_mesh(const Node& node, std::size_t triangles_allowed) {
     MeshData mesh;
     mesh.vertices = read_points(required_mesh_key(node, "vertices"), "an array of vertices [x, y, z]");
     const Node triangles = required_mesh_key(node, "triangles");
-    const std::vector<Node> elements = require_array(triangles, "an array of triangles [i, j, k]");
-    if (elements.empty()) {
+    const bool packed = triangles.json().is_packed_rows();
+    const std::vector<Node> elements =
+        packed ? std::vector<Node>{} : require_array(triangles, "an array of triangles [i, j, k]");
+    const std::size_t count = packed ? triangles.json().size() : elements.size();
+    if (count == 0) {
         refuse(triangles.path(), "a mesh needs at least one triangle, got none");
     }
-    if (elements.size() > triangles_allowed) {
+    if (count > triangles_allowed) {
         refuse(triangles.path(),
-               over_primitive_limit("its " + std::to_string(elements.size()) + " triangles", triangles_allowed));
+               over_primitive_limit("its " + std::to_string(count) + " triangles", triangles_allowed));
     }
-    mesh.triangles.reserve(elements.size());
-    for (const Node& element : elements) {
-        mesh.triangles.push_back(read_triangle(element, mesh.vertices.size()));
+    mesh.triangles.reserve(count);
+    for (std::size_t t = 0; t < count; ++t) {
+        mesh.triangles.push_back(packed ? read_packed_triangle(triangles, t, mesh.vertices.size())
+                                        : read_triangle(elements[t], mesh.vertices.size()));
     }
     if (const std::optional<Node> normals = find_key(node, "normals")) {
         mesh.normals = read_points(*normals, "an array of vertex normals [x, y, z]");

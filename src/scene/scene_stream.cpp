@@ -31,6 +31,15 @@ constexpr std::string_view utf8_bom = "\xEF\xBB\xBF";
 // and nlohmann does not: numbers beyond the range of double, and strings that are not well-formed
 // UTF-8 (checked here rather than by RapidJSON's slower byte-by-byte validation).
 class TreeBuilder : public rapidjson::BaseReaderHandler<rapidjson::UTF8<>, TreeBuilder> {
+    // A mesh's rows being packed (JsonTree::Entry::rows): the array's entry, and the row being read.
+    struct Packing {
+        bool active = false;
+        std::size_t array = 0;
+        const char* row_noun = "";  // "triangle", "vertex" or "normal"
+        bool row_open = false;
+        int numbers_in_row = 0;
+    };
+
 public:
     TreeBuilder(JsonTree& tree, ObjectsReader& objects) : tree_(tree), objects_(objects) {}
 
@@ -168,8 +177,7 @@ private:
                 entry.key_offset = parent.key_offset;
                 entry.key_size = parent.key_size;
             } else if (is_streamed_array(parent)) {
-                element_start_entries_ = tree_.entry_count();
-                element_start_pool_ = tree_.pool_size();
+                element_start_ = tree_.mark();
             } else if (is_kept_objects_array(parent) && tree_.entry(parent.entry).count == objects_.most_elements()) {
                 const std::size_t count = tree_.entry(parent.entry).count;
                 refuse(index_path("objects", count),
@@ -183,6 +191,14 @@ private:
     }
 
     bool scalar(const Entry& entry) {
+        if (packing_.active) {
+            if (packing_.row_open && packing_.numbers_in_row < 3 && is_packable(entry)) {
+                tree_.pack(entry.kind, entry.number);
+                ++packing_.numbers_in_row;
+                return true;
+            }
+            unpack();
+        }
         const std::size_t index = add(entry);
         tree_.entry(index).end = index + 1;
         completed(index);
@@ -190,6 +206,16 @@ private:
     }
 
     bool open(JsonKind kind) {
+        if (packing_.active) {
+            if (kind == JsonKind::array && !packing_.row_open) {
+                packing_.row_open = true;
+                packing_.numbers_in_row = 0;
+                return true;
+            }
+            unpack();
+        }
+        const bool rows = kind == JsonKind::array && is_mesh_rows_key();
+        const std::string_view key = rows ? last_key() : "";
         const std::size_t index = add(Entry{.kind = kind});
         if (levels_.size() == max_json_depth) {
             refuse(path(), "nested deeper than " + std::to_string(max_json_depth) +
@@ -200,10 +226,32 @@ private:
             streaming_ = objects_.stream_elements(tree_);
         }
         levels_.push_back(Level{index, 0, 0, {}});
+        if (rows) {
+            tree_.entry(index).text_offset = tree_.packed_size();
+            packing_ = Packing{.active = true,
+                               .array = index,
+                               .row_noun = key == "triangles"  ? "triangle"
+                                           : key == "vertices" ? "vertex"
+                                                               : "normal"};
+        }
         return true;
     }
 
     bool close() {
+        if (packing_.active) {
+            if (packing_.row_open && packing_.numbers_in_row == 3) {
+                packing_.row_open = false;
+                ++tree_.entry(packing_.array).count;
+                refuse_rows_past_the_limit();
+                return true;
+            }
+            if (!packing_.row_open) {
+                tree_.entry(packing_.array).rows = true;
+                packing_.active = false;
+            } else {
+                unpack();
+            }
+        }
         const std::size_t index = levels_.back().entry;
         levels_.pop_back();
         tree_.entry(index).end = tree_.entry_count();
@@ -229,7 +277,82 @@ private:
         if (!levels_.empty() && is_streamed_array(levels_.back())) {
             objects_.element(JsonValue(tree_, streamed_array_), JsonValue(tree_, index),
                              tree_.entry(streamed_array_).count - 1);
-            tree_.truncate(element_start_entries_, element_start_pool_);
+            tree_.truncate(element_start_);
+        }
+    }
+
+    // A top-level object's "vertices", "triangles" or "normals": a mesh's rows, packed while each is three numbers.
+    bool is_mesh_rows_key() const {
+        if (levels_.size() != 3 || streamed_array_ == 0 || levels_[1].entry != streamed_array_) {
+            return false;
+        }
+        if (tree_.entry(levels_[2].entry).kind != JsonKind::object) {
+            return false;
+        }
+        const std::string_view key = last_key();
+        return key == "vertices" || key == "triangles" || key == "normals";
+    }
+
+    // The last key read in the innermost open object.
+    std::string_view last_key() const { return tree_.pooled(levels_.back().key_offset, levels_.back().key_size); }
+
+    // A mesh holds at most a triangle per primitive of the limit, and three vertices and normals per triangle
+    // (as a mesh file may): refused at the row past that as it is read, so that no text grows the packed rows
+    // beyond what a mesh at the limit holds.
+    void refuse_rows_past_the_limit() const {
+        const std::size_t rows = tree_.entry(packing_.array).count;
+        const std::size_t limit = objects_.most_elements();
+        const bool triangles = std::string_view(packing_.row_noun) == "triangle";
+        if (rows > (triangles ? limit : 3 * limit)) {
+            const std::string row = packing_.row_noun + std::string(" number ") + std::to_string(rows) + " of a mesh";
+            refuse(path(), triangles ? over_primitive_limit(row, limit)
+                                     : row + ": more than three per triangle of the limit of " + std::to_string(limit) +
+                                           " primitives");
+        }
+    }
+
+    // A number whose kind and value a packed row keeps exactly: any double, an integer up to 2^53.
+    static bool is_packable(const Entry& entry) {
+        constexpr std::int64_t exact = std::int64_t{1} << 53;
+        switch (entry.kind) {
+            case JsonKind::floating: return true;
+            case JsonKind::signed_integer: return entry.integer >= -exact;
+            case JsonKind::unsigned_integer: return static_cast<std::uint64_t>(entry.integer) <= exact;
+            default: return false;
+        }
+    }
+
+    // Something other than a row of three numbers: the rows packed so far become entries, as if never packed
+    // (a row cut short stays open), and the event that found it is read as usual, so every message stays as it
+    // was.
+    void unpack() {
+        const std::size_t array = packing_.array;
+        const std::size_t first = tree_.entry(array).text_offset;
+        const std::size_t rows = tree_.entry(array).count;
+        const bool row_open = packing_.row_open;
+        std::vector<Entry> numbers;
+        for (std::size_t at = first; at < tree_.packed_size(); ++at) {
+            const double number = tree_.packed_number(at);
+            numbers.push_back(Entry{.kind = tree_.packed_kind(at),
+                                    .number = number,
+                                    .integer = tree_.packed_kind(at) == JsonKind::unsigned_integer
+                                                   ? static_cast<std::int64_t>(static_cast<std::uint64_t>(number))
+                                                   : static_cast<std::int64_t>(number)});
+        }
+        JsonTree::Mark before = tree_.mark();
+        before.packed = first;
+        tree_.truncate(before);
+        tree_.entry(array).count = 0;
+        tree_.entry(array).text_offset = 0;
+        packing_ = Packing{};
+        for (std::size_t row = 0; row < rows + (row_open ? 1 : 0); ++row) {
+            open(JsonKind::array);
+            for (std::size_t column = 0; column < 3 && 3 * row + column < numbers.size(); ++column) {
+                scalar(numbers[3 * row + column]);
+            }
+            if (row < rows) {
+                close();
+            }
         }
     }
 
@@ -249,7 +372,8 @@ private:
     std::vector<Level> levels_;
     std::size_t streamed_array_ = 0;
     bool streaming_ = false;
-    std::size_t element_start_entries_ = 0, element_start_pool_ = 0;
+    JsonTree::Mark element_start_;
+    Packing packing_;
 };
 
 // ---------------------------------------------------------------------------------------------------
