@@ -842,8 +842,8 @@ std::vector<std::string> entries_of(const JsonTree& tree) {
     for (std::size_t i = 0; i < tree.entry_count(); ++i) {
         const JsonTree::Entry& e = tree.entry(i);
         entries.push_back(std::to_string(static_cast<int>(e.kind)) + " end " + std::to_string(e.end) + " count " +
-                          std::to_string(e.count) + " rows " + std::to_string(e.rows) + " value " +
-                          JsonValue(tree, i).dump());
+                          std::to_string(e.count) + " rows " + std::to_string(e.rows) + " integer " +
+                          std::to_string(e.integer) + " value " + JsonValue(tree, i).dump());
     }
     return entries;
 }
@@ -883,6 +883,8 @@ TEST(SceneStream, AMeshsRowsOfThreeNumbersArePackedNotAnEntryEach) {
 TEST(SceneStream, RowsThatAreNotAllThreeNumbersAreEntriesAsIfNeverPacked) {
     const std::vector<std::string> cases = {
         "[[0, 0, 0], [1, 2]]",
+        "[[1e300, -0.0, 7], [-5, 18446744073709551615, 9007199254740992], [1, 2]]",
+        "[[-1e-300, 1.5, -9007199254740992], [0.5, -0, 3], \"x\"]",
         "[[0, 0, 0], [1, 2, 3, 4]]",
         "[[0, 0, 0], [1, 2], [3, 4, 5]]",
         "[[0, 0, 0], \"x\", [1, 2, 3]]",
