@@ -49,19 +49,28 @@ double JsonValue::number() const {
     return tree_->entry(index_).number;
 }
 
-std::string JsonValue::dump() const {
-    const JsonTree::Entry& entry = tree_->entry(index_);
+namespace {
+
+// A scalar as nlohmann::json writes it; `text` is a string's.
+std::string dump_scalar(const JsonTree::Entry& entry, std::string_view text) {
     switch (entry.kind) {
         case JsonKind::boolean: return nlohmann::json(entry.boolean).dump();
         case JsonKind::signed_integer: return nlohmann::json(entry.integer).dump();
         case JsonKind::unsigned_integer: return nlohmann::json(static_cast<std::uint64_t>(entry.integer)).dump();
         case JsonKind::floating: return nlohmann::json(entry.number).dump();
-        case JsonKind::string: return nlohmann::json(std::string(string())).dump();
+        case JsonKind::string: return nlohmann::json(std::string(text)).dump();
         case JsonKind::null:
         case JsonKind::array:
         case JsonKind::object: break;
     }
     return "null";
+}
+
+}  // namespace
+
+std::string JsonValue::dump() const {
+    const JsonTree::Entry& entry = tree_->entry(index_);
+    return dump_scalar(entry, entry.kind == JsonKind::string ? string() : std::string_view());
 }
 
 bool JsonValue::is_packed_rows() const {
@@ -73,14 +82,7 @@ double JsonValue::row_number(std::size_t row, std::size_t column) const {
 }
 
 std::string JsonValue::row_dump(std::size_t row, std::size_t column) const {
-    const std::size_t at = tree_->entry(index_).text_offset + 3 * row + column;
-    const double number = tree_->packed_number(at);
-    // Packed integers are exact in a double (scene_stream.cpp packs no others).
-    switch (tree_->packed_kind(at)) {
-        case JsonKind::signed_integer: return nlohmann::json(static_cast<std::int64_t>(number)).dump();
-        case JsonKind::unsigned_integer: return nlohmann::json(static_cast<std::uint64_t>(number)).dump();
-        default: return nlohmann::json(number).dump();
-    }
+    return dump_scalar(tree_->packed_entry(tree_->entry(index_).text_offset + 3 * row + column), "");
 }
 
 }  // namespace twinray::scene

@@ -101,8 +101,17 @@ public:
         packed_numbers_.push_back(number);
     }
     std::size_t packed_size() const { return packed_numbers_.size(); }
-    JsonKind packed_kind(std::size_t index) const { return packed_kinds_[index]; }
     double packed_number(std::size_t index) const { return packed_numbers_[index]; }
+    // A packed number as the entry it was read as: an integer's exact value back from its double, a fraction's 0.
+    Entry packed_entry(std::size_t index) const {
+        Entry entry{.kind = packed_kinds_[index], .number = packed_numbers_[index]};
+        if (entry.kind == JsonKind::signed_integer) {
+            entry.integer = static_cast<std::int64_t>(entry.number);
+        } else if (entry.kind == JsonKind::unsigned_integer) {
+            entry.integer = static_cast<std::int64_t>(static_cast<std::uint64_t>(entry.number));
+        }
+        return entry;
+    }
 
     Mark mark() const { return {entries_.size(), pool_.size(), packed_numbers_.size()}; }
     // Drops everything added after `mark`, keeping the capacity.

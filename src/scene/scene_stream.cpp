@@ -332,14 +332,7 @@ private:
         const bool row_open = packing_.row_open;
         std::vector<Entry> numbers;
         for (std::size_t at = first; at < tree_.packed_size(); ++at) {
-            // An integer's exact value back from its double (is_packable); a fraction's is 0, as parse_number leaves it.
-            Entry number{.kind = tree_.packed_kind(at), .number = tree_.packed_number(at)};
-            if (number.kind == JsonKind::signed_integer) {
-                number.integer = static_cast<std::int64_t>(number.number);
-            } else if (number.kind == JsonKind::unsigned_integer) {
-                number.integer = static_cast<std::int64_t>(static_cast<std::uint64_t>(number.number));
-            }
-            numbers.push_back(number);
+            numbers.push_back(tree_.packed_entry(at));
         }
         JsonTree::Mark before = tree_.mark();
         before.packed = first;
