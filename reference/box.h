@@ -56,20 +56,18 @@ std::optional<Span<T>> span_of(const BoxShape<T>& box, const Ray<T>& ray) {
     return Span<T>{enter, exit};
 }
 
-// The coordinate of the face hit (the axis of the normal, the nearer of its two faces) set exactly to the
-// face's: p' is on the face with no error. The next ray compares its origin with the face by face − o, exact where they are
+// The coordinate of the face hit (the normal's dominant axis, the nearer of its two faces) set exactly to the
+// face's: p' is on the face with no error. Dominant, not non-zero: a turned box's normal comes back into object
+// space with rounding residue off its axis (transformed.h). The next ray compares its origin with the face by face − o, exact where they are
 // within a factor of two (Sterbenz), so an origin one ulp off the face is on the right side: γ(3)·|p'|∞
 // moves it by at least one ulp.
 template <typename T>
 SurfacePoint<T> surface_point(const BoxShape<T>& box, Vec3<T> point, Vec3<T> normal) {
     T coordinates[3] = {point.x, point.y, point.z};
-    for (int axis = 0; axis < 3; ++axis) {
-        if (normal[axis] != T(0)) {
-            T c = coordinates[axis];
-            coordinates[axis] =
-                std::fabs(c - box.max[axis]) < std::fabs(c - box.min[axis]) ? box.max[axis] : box.min[axis];
-        }
-    }
+    int axis = std::fabs(normal.y) > std::fabs(normal.x) ? 1 : 0;
+    axis = std::fabs(normal.z) > std::fabs(normal[axis]) ? 2 : axis;
+    T c = coordinates[axis];
+    coordinates[axis] = std::fabs(c - box.max[axis]) < std::fabs(c - box.min[axis]) ? box.max[axis] : box.min[axis];
     Vec3<T> projected{coordinates[0], coordinates[1], coordinates[2]};
     return {projected, scene::surface_bounds_of_box<T>().spawn_offset.at(max_abs_component(projected))};
 }

@@ -10,6 +10,7 @@
 #include "reference/plane.h"
 #include "reference/ray.h"
 #include "reference/sphere.h"
+#include "reference/transformed.h"
 #include "reference/triangle.h"
 #include "render/ray_tree.h"
 #include "render/render.h"

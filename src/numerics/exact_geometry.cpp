@@ -172,6 +172,36 @@ Real distance_to(const scene::Box& box, const Point& p) {
     return outside_squared > 0 ? std::sqrt(outside_squared) : inside;
 }
 
+// Transformed ---------------------------------------------------------------------------------------------
+
+// The map in long double, its inverse computed here from L rather than rounded from the scene's double one.
+math::Transform<Real> exact_map(const scene::Transform& to_world) {
+    math::Transform<Real> m = math::Transform<Real>::from(to_world);
+    m.inverse = math::inverse_of(m.linear);
+    return m;
+}
+
+// o' + t·d' = L⁻¹·(o + t·d − t₀): the same t along both lines, whatever d' 's length.
+template <typename S>
+ExactSpan span_of(const scene::Transformed<S>& primitive, const Point& o, const Point& d) {
+    math::Transform<Real> m = exact_map(primitive.to_world());
+    return span_of(primitive.shape(), m.point_to_object(o), m.direction_to_object(d));
+}
+template <typename S>
+Vec3d normal_at(const scene::Transformed<S>& primitive, const Point& p) {
+    math::Transform<Real> m = exact_map(primitive.to_world());
+    return unit(m.normal_to_world(Point(normal_at(primitive.shape(), m.point_to_object(p)))));
+}
+// To first order in the distance, which is all a hit point's error is: the object-space distance φ over the
+// rate |L⁻ᵀ·n̂ₒ| at which φ grows per unit of world distance along the surface's normal.
+template <typename S>
+Real distance_to(const scene::Transformed<S>& primitive, const Point& p) {
+    math::Transform<Real> m = exact_map(primitive.to_world());
+    Point object_point = m.point_to_object(p);
+    Point rate = m.normal_to_world(Point(normal_at(primitive.shape(), object_point)));
+    return distance_to(primitive.shape(), object_point) / math::length(rate);
+}
+
 // A CSG object is not a primitive: these queries take leaves only, and a CSG object answers `none`.
 template <typename Query, typename Result>
 Result on_primitive(const scene::Object& object, Query&& query, Result none) {

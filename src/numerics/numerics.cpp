@@ -72,7 +72,8 @@ void collect_leaves(const scene::Object& object, std::vector<const scene::Object
 
 // "plane", "sphere", ...: the scene format's name of the primitive's type.
 const char* primitive_name(const scene::Object& primitive) {
-    constexpr const char* names[] = {"plane", "sphere", "cylinder", "box", "csg"};
+    constexpr const char* names[] = {
+        "plane", "sphere", "cylinder", "box", "transformed sphere", "transformed cylinder", "transformed box", "csg"};
     static_assert(std::size(names) == scene::PrimitiveTypes::size + 1);
     return names[primitive.shape.index()];
 }

@@ -148,6 +148,12 @@ void add_to_peer(const scene::Box& box, int, std::vector<float>&, Quads& quads, 
 void add_to_peer(const scene::Cylinder& cylinder, int leaf, std::vector<float>&, Quads&, UserGeometry& user) {
     user.shapes.push_back(reference::make_shape<float>(cylinder, leaf));
 }
+template <typename S>
+void add_to_peer(const scene::Transformed<S>&, int, std::vector<float>&, Quads&, UserGeometry&) {
+    throw std::runtime_error(
+        "Embree peer: primitives placed by a transform no primitive expresses (an ellipsoid, a turned box) are not "
+        "supported");
+}
 template <typename Unsupported>
 void add_to_peer(const Unsupported&, int, std::vector<float>&, Quads&, UserGeometry&) {
     throw std::runtime_error("Embree peer: scenes with CSG are not supported");

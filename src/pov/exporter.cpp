@@ -363,6 +363,26 @@ private:
     static std::string geometry(const scene::Box& box) {
         return triple(box.min[0], box.min[1], -box.max[2]) + ", " + triple(box.max[0], box.max[1], -box.min[2]);
     }
+    template <typename S>
+    static const char* primitive(const scene::Transformed<S>& transformed) {
+        return primitive(transformed.shape());
+    }
+    // The object-space primitive, then POV-Ray's matrix <…>: twelve numbers, the images of its x, y and z axes
+    // and the translation, for row vectors (p' = p·M). Its world is ours with z negated, Z = diag(1, 1, −1), so
+    // it takes Z·L·Z and Z·t.
+    template <typename S>
+    static std::string geometry(const scene::Transformed<S>& transformed) {
+        const scene::Transform& m = transformed.to_world();
+        auto flip = [](int axis) { return axis == 2 ? -1.0 : 1.0; };
+        std::string entries;
+        for (int column = 0; column < 3; ++column) {
+            for (int row = 0; row < 3; ++row) {
+                entries += number(flip(row) * flip(column) * m.linear.row[row][column]) + ", ";
+            }
+        }
+        entries += number(m.translation[0]) + ", " + number(m.translation[1]) + ", " + number(-m.translation[2]);
+        return geometry(transformed.shape()) + " matrix <" + entries + ">";
+    }
 
     void appearance(int leaf, int material_index, int indent, Pass pass) {
         const auto material = static_cast<std::size_t>(material_index);

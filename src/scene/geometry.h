@@ -188,6 +188,115 @@ math::SurfaceBounds<T> surface_bounds_of_box() {
     return {{T(0), T(0)}, {T(0), math::rounding_bound<T>(3)}};
 }
 
+// Transformed ------------------------------------------------------------------------------------------
+// A primitive in object space and its transform to the world (scene.h). Each function is the primitive's own,
+// carried through the transform.
+
+// L·p + t in double: each coordinate within γ(4)·(‖L‖∞·|p|∞ + |t|∞) of the exact map.
+inline double placement_rounding(const Transform& m, double object_coordinate) {
+    return math::rounding_bound<double>(4) *
+           (math::row_sum_norm(m.linear) * object_coordinate + largest_coordinate(m.translation));
+}
+// The box around the object-space box's eight corners, placed, and widened by their rounding.
+template <typename S>
+Bounds bounds(const Transformed<S>& primitive) {
+    const Bounds inner = bounds(primitive.shape());
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    Bounds out{{inf, inf, inf}, {-inf, -inf, -inf}};
+    for (int corner = 0; corner < 8; ++corner) {
+        Vec3 p{(corner & 1) ? inner.high.x : inner.low.x, (corner & 2) ? inner.high.y : inner.low.y,
+               (corner & 4) ? inner.high.z : inner.low.z};
+        Vec3 placed = primitive.to_world().point_to_world(p);
+        for (int axis = 0; axis < 3; ++axis) {
+            out.low[axis] = std::min(out.low[axis], placed[axis]);
+            out.high[axis] = std::max(out.high[axis], placed[axis]);
+        }
+    }
+    double pad = placement_rounding(primitive.to_world(),
+                                    std::max(largest_coordinate(inner.low), largest_coordinate(inner.high)));
+    return around(out.low, out.high, pad);
+}
+// ‖L‖_F bounds how far L stretches any radius.
+template <typename S>
+BoundingSphere bounding_sphere(const Transformed<S>& primitive) {
+    const BoundingSphere inner = bounding_sphere(primitive.shape());
+    double stretch = math::frobenius_norm(primitive.to_world().linear);
+    return {primitive.to_world().point_to_world(inner.center),
+            stretch * inner.radius * (1 + math::rounding_bound<double>(8)) +
+                placement_rounding(primitive.to_world(), largest_coordinate(inner.center))};
+}
+// p·s + shift of a placed point is (s·L)·x + (s·t + shift): the object-space primitive stays.
+template <typename S>
+Transformed<S> moved(const Transformed<S>& primitive, double scale, const Vec3& shift) {
+    Transform m = primitive.to_world();
+    for (int i = 0; i < 3; ++i) {
+        m.linear.row[i] = scale * m.linear.row[i];
+        m.inverse.row[i] = m.inverse.row[i] / scale;
+    }
+    m.translation = moved(m.translation, scale, shift);
+    return Transformed<S>(primitive.shape(), m);
+}
+template <typename S>
+Transformed<S> rounded_to_float(const Transformed<S>& primitive) {
+    Transform m = primitive.to_world();
+    for (int i = 0; i < 3; ++i) {
+        m.linear.row[i] = rounded_to_float(m.linear.row[i]);
+        m.inverse.row[i] = rounded_to_float(m.inverse.row[i]);
+    }
+    m.translation = rounded_to_float(m.translation);
+    return Transformed<S>(rounded_to_float(primitive.shape()), m);
+}
+template <typename S>
+double largest_coordinate(const Transformed<S>& primitive) {
+    const Transform& m = primitive.to_world();
+    return largest_coordinate(m.translation) + math::row_sum_norm(m.linear) * largest_coordinate(primitive.shape());
+}
+// The object's radius at the point, shrunk by the most the transform can bend it: a circle of radius r becomes
+// an ellipse whose tightest radius is r·σ_min²/σ_max, and σ_min ≥ 1/‖L⁻¹‖_F, σ_max ≤ ‖L‖_F.
+template <typename S>
+double curvature_radius(const Transformed<S>& primitive, const Vec3& point) {
+    const Transform& m = primitive.to_world();
+    double shrink = math::frobenius_norm(m.inverse);
+    return curvature_radius(primitive.shape(), m.point_to_object(point)) /
+           (shrink * shrink * math::frobenius_norm(m.linear));
+}
+
+// The norms of a transform that its rounding bounds need, in T, rounded up.
+template <typename T>
+struct TransformNorms {
+    T stretch;       // ‖L‖_F ≥ σ_max(L)
+    T shrink;        // ‖L⁻¹‖_F ≥ 1/σ_min(L)
+    T rows;          // ‖L‖∞
+    T inverse_rows;  // ‖L⁻¹‖∞
+    T translation;   // |t|∞
+};
+template <typename T>
+TransformNorms<T> transform_norms(const Transform& m) {
+    // The norm's own rounding in double (a few ulps), then rounded up to T.
+    auto up = [](double v) {
+        double above = v * (1 + math::rounding_bound<double>(8));
+        T r = static_cast<T>(above);
+        return static_cast<double>(r) < above ? std::nextafter(r, std::numeric_limits<T>::infinity()) : r;
+    };
+    return {up(math::frobenius_norm(m.linear)), up(math::frobenius_norm(m.inverse)), up(math::row_sum_norm(m.linear)),
+            up(math::row_sum_norm(m.inverse)), up(largest_coordinate(m.translation))};
+}
+// How far off a transformed primitive's surface its secondary rays start: the object-space offset
+// `object_offset` of the re-projected point p'ₒ (|p'ₒ|∞ = `object_point`), carried to the world point p'_w
+// (|p'_w|∞ = `world_point`). reference/transformed.h derives it.
+template <typename T>
+T transformed_spawn_offset(const TransformNorms<T>& n, T object_offset, T object_point, T world_point) {
+    using math::rounding_bound;
+    constexpr T root3 = T(1.7320509);  // √3 rounded up: |v|₂ ≤ √3·|v|∞
+    T back = rounding_bound<T>(4) * (n.rows * object_point + n.translation) + rounding_bound<T>(2) * world_point;
+    T forward = rounding_bound<T>(5) * n.inverse_rows * (world_point + n.translation);
+    // The next origin is p'_w + δ·n̂, so the forward rounding grows with δ too: δ = A + B·δ, δ = A/(1 − B), and
+    // B ≤ √3·γ(5)·κ stays below 0.06 in float at the condition limit.
+    T fixed = n.stretch * (object_offset + root3 * (forward + n.shrink * back));
+    T growth = n.stretch * root3 * rounding_bound<T>(5) * n.inverse_rows;
+    return (T(1) + rounding_bound<T>(8)) * fixed / (T(1) - growth);
+}
+
 // Mesh -------------------------------------------------------------------------------------------------
 // Not in PrimitiveTypes: a mesh is a surface of many triangles, not a solid (scene.h).
 

@@ -4,6 +4,7 @@
 #include "scene/geometry.h"
 #include "scene/loader.h"
 #include "scene/mesh_file.h"
+#include "scene/placement.h"
 
 #include <algorithm>
 #include <array>
@@ -66,7 +67,7 @@ struct ObjectKind {
 
 Schema object_schema(std::string_view noun, std::vector<std::string_view> own_keys) {
     own_keys.insert(own_keys.begin(), "type");
-    return Schema{noun, std::move(own_keys), {"material"}};
+    return Schema{noun, std::move(own_keys), {"material", "transform"}};
 }
 
 const ObjectKind object_kinds[] = {
@@ -77,7 +78,8 @@ const ObjectKind object_kinds[] = {
     {"union", object_schema("a union", {"children"}), CsgOp::union_},
     {"intersection", object_schema("an intersection", {"children"}), CsgOp::intersection},
     {"difference", object_schema("a difference", {"children"}), CsgOp::difference},
-    {"mesh", Schema{"a mesh", {"type"}, {"vertices", "triangles", "normals", "file", "smooth", "material"}},
+    {"mesh",
+     Schema{"a mesh", {"type"}, {"vertices", "triangles", "normals", "file", "smooth", "material", "transform"}},
      MeshKind{}},
 };
 
@@ -273,8 +275,8 @@ public:
         : names_(names), max_primitives_(max_primitives), scene_(scene), base_directory_(std::move(base_directory)) {}
 
     // `level` bounds the recursion (max_object_nesting); `inherited_material` is that of the nearest
-    // ancestor naming one, else the default.
-    Object read(const Node& node, int level, int inherited_material) {
+    // ancestor naming one, else the default; `placement` the CSG ancestors' transforms composed.
+    Object read(const Node& node, int level, int inherited_material, const Transform& placement) {
         if (level > max_object_nesting) {
             refuse(node.path(), "objects nested deeper than " + std::to_string(max_object_nesting) +
                                     " levels; a top-level object is level 1 and each CSG child one level deeper");
@@ -283,8 +285,9 @@ public:
         require_keys_of(node, kind.schema);
         const int material = read_or(node, "material", inherited_material,
                                      [this](const Node& name) { return require_material_name(name); });
+        const Transform to_world = placed_by(node, placement);
         if (const CsgOp* op = std::get_if<CsgOp>(&kind.shape)) {
-            return Object{read_csg(node, *op, level, material), material, -1};
+            return Object{read_csg(node, *op, level, material, to_world), material, -1};
         }
         if (std::holds_alternative<MeshKind>(kind.shape)) {
             refuse(node.path(), "a mesh may not be a CSG child (meshes are surfaces, not solids); place it in objects");
@@ -294,7 +297,7 @@ public:
                    over_primitive_limit("primitive number " + std::to_string(max_primitives_ + 1) + " of the scene",
                                         max_primitives_));
         }
-        Shape shape = std::get<Shape (*)(const Node&)>(kind.shape)(node);
+        Shape shape = placed(std::get<Shape (*)(const Node&)>(kind.shape)(node), to_world);
         const int leaf = static_cast<int>(scene_.leaf_paths.size());
         scene_.leaf_paths.push_back(node.path());
         scene_.leaf_materials.push_back(material);
@@ -317,6 +320,7 @@ public:
         } else {
             *data = read_inline_mesh(node, triangles_allowed);
         }
+        place(*data, placed_by(node, identity_transform()));
         finish_mesh(node, *data);
         const int leaf = static_cast<int>(scene_.leaf_paths.size());
         scene_.leaf_paths.push_back(node.path());
@@ -325,6 +329,17 @@ public:
     }
 
 private:
+    // The node's own transform, if it has one, applied before its ancestors' `placement`.
+    static Transform placed_by(const Node& node, const Transform& placement) {
+        const std::optional<Node> list = find_key(node, "transform");
+        if (!list) {
+            return placement;
+        }
+        Transform to_world = math::composed(placement, read_transform(*list));
+        require_usable(*list, to_world);
+        return to_world;
+    }
+
     // Index 0, the built-in default, has no name a scene can use.
     int require_material_name(const Node& node) const {
         const std::string_view name = require_string(node);
@@ -338,7 +353,7 @@ private:
         return static_cast<int>(found - names_.begin());
     }
 
-    Csg read_csg(const Node& node, CsgOp op, int level, int material) {
+    Csg read_csg(const Node& node, CsgOp op, int level, int material, const Transform& placement) {
         const Node children = at(node, "children");
         const std::vector<Node> elements = require_array(children, "an array of objects");
         if (elements.size() < 2) {
@@ -346,7 +361,7 @@ private:
         }
         Csg csg{op, {}};
         for (const Node& child : elements) {
-            csg.children.push_back(read(child, level + 1, material));
+            csg.children.push_back(read(child, level + 1, material, placement));
         }
         return csg;
     }
@@ -369,7 +384,8 @@ void read_top_level_object(const Node& element, const std::vector<std::string>& 
         return;
     }
     const std::size_t leaves_before = scene.leaf_paths.size();
-    scene.objects.push_back(ObjectReader(material_names, max_primitives, scene).read(element, 1, 0));
+    scene.objects.push_back(
+        ObjectReader(material_names, max_primitives, scene).read(element, 1, 0, identity_transform()));
     const std::size_t leaves = scene.leaf_paths.size() - leaves_before;
     if (leaves > static_cast<std::size_t>(max_csg_leaves)) {
         refuse(element.path(),

@@ -24,6 +24,12 @@ std::vector<Light> read_lights(const Node& node);
 // first, then the keys of `materials` (an object) in file order.
 std::vector<std::string> material_names_of(const JsonValue& materials);
 
+// A "transform" list, its steps composed in the order they apply (docs/scene-format.md, "Transforms").
+Transform read_transform(const Node& list);
+// Refuses, at `where`, a transform (an object's, composed with its CSG ancestors') that is not finite or whose
+// condition number exceeds max_transform_condition.
+void require_usable(const Node& where, const Transform& to_world);
+
 // Reads one element of `objects` (a primitive, or a CSG tree) into the scene: the object, and each of
 // its primitives' path and material. `material_names` as in material_names_of. Refuses the primitive that
 // would make the scene's count exceed `max_primitives`.

@@ -2,6 +2,7 @@
 // Both tracers read this and nothing else of each other (see ../shared contract, docs/scene-format.md).
 #pragma once
 
+#include "math/transform.h"
 #include "math/type_list.h"
 #include "math/vec3.h"
 
@@ -65,6 +66,38 @@ struct Box {
     Vec3 max{};
 };
 
+// Object space to world: p ↦ L·p + t, L invertible and well conditioned (the loader's limit,
+// max_transform_condition), L⁻¹ beside it.
+using Transform = math::Transform<double>;
+
+// κ(L) = ‖L‖_F·‖L⁻¹‖_F, at most this: a float ray carried into object space and its hit carried back lose up
+// to κ·u of the object's size each way (docs/numerics.md, "Transforms"), 0.6 % at the limit. An eccentricity
+// of 1e4 (κ ≈ 1.4e4) passes; a uniform scale, however small, has κ = 3.
+constexpr double max_transform_condition = 1e5;
+
+// A primitive in its own space, placed by a transform that no primitive of its kind can express: a sphere
+// scaled unevenly (an ellipsoid), a cylinder scaled across its axis, a box turned off the axes. Every other
+// transform the loader applies to the primitive itself, in double (docs/scene-format.md, "Transforms"), so
+// both tracers see a plain primitive and pay nothing for it.
+// Held apart, shared by copies: every Object stays the size of the largest plain primitive, so scenes without
+// transforms hold no more per primitive than before.
+template <typename S>
+class Transformed {
+public:
+    Transformed(const S& shape, const Transform& to_world)
+        : placed_(std::make_shared<const Placed>(Placed{shape, to_world})) {}
+
+    const S& shape() const { return placed_->shape; }
+    const Transform& to_world() const { return placed_->to_world; }
+
+private:
+    struct Placed {
+        S shape;
+        Transform to_world;
+    };
+    std::shared_ptr<const Placed> placed_;
+};
+
 enum class CsgOp { union_, intersection, difference };
 
 struct Object;
@@ -78,7 +111,8 @@ struct Csg {
 // The one list of primitive types, in the order every per-type loop visits them. Each dispatch on a
 // primitive's type — both tracers' compilation and kernels, numerics, accuracy, the exporter — is generated
 // from it; docs/adding-a-primitive.md lists what a new entry needs.
-using PrimitiveTypes = math::TypeList<Plane, Sphere, Cylinder, Box>;
+using PrimitiveTypes =
+    math::TypeList<Plane, Sphere, Cylinder, Box, Transformed<Sphere>, Transformed<Cylinder>, Transformed<Box>>;
 
 template <typename S>
 constexpr bool is_primitive = PrimitiveTypes::contains<S>;

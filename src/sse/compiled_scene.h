@@ -14,6 +14,7 @@
 #include "sse/plane.h"
 #include "sse/sphere.h"
 #include "sse/tracer.h"
+#include "sse/transformed.h"
 #include "sse/triangle.h"
 
 #include <cstdint>

@@ -1,0 +1,122 @@
+// A primitive in its own space under p ↦ L·p + t (scene::Transformed), against four rays. Mirrors
+// reference/transformed.h section by section: the record and its construction from the scene, the span, the
+// surface at a hit. Only scenes with such a primitive have this list; the others pay nothing.
+#pragma once
+
+#include "math/transform.h"
+#include "scene/geometry.h"
+#include "sse/box.h"
+#include "sse/cylinder.h"
+#include "sse/mutation.h"
+#include "sse/span4.h"
+#include "sse/sphere.h"
+
+#include <memory>
+#include <utility>
+
+namespace twinray::sse {
+
+// L⁻¹ and t broadcast (see SphereShape): 192 bytes beside the primitive's own record.
+template <typename Inner>
+struct TransformedShape {
+    Inner inner;
+    math::Matrix3<vfloat4> inverse;
+    Vec3x4 translation;
+};
+
+// Held apart, shared by copies: every Leaf stays the size of the largest plain surface.
+template <typename InnerSurface>
+class TransformedSurface {
+public:
+    TransformedSurface(const InnerSurface& inner, const scene::Transform& to_world)
+        : placed_(std::make_shared<const Placed>(
+              Placed{inner, math::Transform<float>::from(to_world), scene::transform_norms<float>(to_world)})) {}
+
+    const InnerSurface& inner() const { return placed_->inner; }
+    const math::Transform<float>& to_world() const { return placed_->to_world; }
+    const scene::TransformNorms<float>& norms() const { return placed_->norms; }
+
+private:
+    struct Placed {
+        InnerSurface inner;
+        math::Transform<float> to_world;
+        scene::TransformNorms<float> norms;
+    };
+    std::shared_ptr<const Placed> placed_;
+};
+
+template <typename S>
+auto make_shape(const scene::Transformed<S>& primitive) {
+    auto inner = make_shape(primitive.shape());
+    const math::Matrix3<double>& l = primitive.to_world().inverse;
+    math::Matrix3<vfloat4> inverse;
+    for (int i = 0; i < 3; ++i) {
+        inverse.row[i] = broadcast(Vec3(l.row[i]));
+    }
+    return TransformedShape<decltype(inner)>{inner, inverse, broadcast(Vec3(primitive.to_world().translation))};
+}
+
+template <typename S>
+auto make_surface(const scene::Transformed<S>& primitive) {
+    auto inner = make_surface(primitive.shape());
+    return TransformedSurface<decltype(inner)>(inner, primitive.to_world());
+}
+
+// As the reference: o' = L⁻¹·(o − t), d' = L⁻¹·d, the primitive's span along d'/|d'|, and t = t'/|d'|. One
+// reciprocal of |d'| serves the three components and both ends (the thesis's shared denominator).
+template <typename P, typename Inner>
+TWINRAY_KERNEL Span4 span_of(const TransformedShape<Inner>& shape, const RayPacket& rays) {
+    Vec3x4 origin = mutated<Mutant::transform_order_swapped> ? shape.inverse * rays.origin - shape.translation
+                                                             : shape.inverse * (rays.origin - shape.translation);
+    Vec3x4 direction = shape.inverse * rays.direction;
+    vfloat4 shrink = reciprocal<P>(sqrt(dot<P>(direction, direction)));
+    RayPacket object_rays(origin, shrink * direction, rays.active);
+    if constexpr (uses_inverse_direction<Inner>) {
+        object_rays.compute_inverse_direction<P>();
+    }
+    Span4 span = span_of<P>(shape.inner, object_rays);
+    span.enter = span.enter * shrink;
+    span.exit = span.exit * shrink;
+    return span;
+}
+
+// The primitive's outward normal at the object-space point, through the inverse transpose (not yet unit).
+template <typename InnerSurface>
+Vec3 outward_normal(const TransformedSurface<InnerSurface>& surface, std::int32_t face, Vec3 point,
+                    bool& needs_normalizing) {
+    bool inner_needs_normalizing = false;
+    Vec3 object_normal =
+        outward_normal(surface.inner(), face, surface.to_world().point_to_object(point), inner_needs_normalizing);
+    needs_normalizing = mutated<Mutant::transformed_normal_not_renormalized> ? inner_needs_normalizing : true;
+    return mutated<Mutant::transformed_normal_through_matrix> ? surface.to_world().linear * object_normal
+                                                              : surface.to_world().normal_to_world(object_normal);
+}
+
+// As the reference's surface_point: re-projected in object space by the primitive's own anchor, carried back,
+// and the anchor returned as the point itself (radius 0, no own rounding); the spawn offset carried through both
+// trips (scene::transformed_spawn_offset).
+template <typename InnerSurface>
+SurfaceAnchor surface_anchor(const TransformedSurface<InnerSurface>& surface, std::int32_t face, float turned,
+                             Vec3 point) {
+    const math::Transform<float>& m = surface.to_world();
+    Vec3 object_point = m.point_to_object(point);
+    bool needs_normalizing = false;
+    Vec3 outward = outward_normal(surface.inner(), face, object_point, needs_normalizing);
+    SurfaceAnchor inner = surface_anchor(surface.inner(), face, turned, object_point);
+    Vec3 projected = object_point;
+    if (!(outward == Vec3{})) {
+        Vec3 unit = turned * math::normalize_by_reciprocal(outward);
+        float off_surface =
+            std::fabs(std::fabs(math::dot(unit, object_point - inner.anchor)) - std::fabs(inner.radius));
+        if (off_surface > inner.own_rounding) {
+            projected = inner.anchor + inner.radius * unit;
+        }
+    }
+    Vec3 world = projected == object_point ? point : m.point_to_world(projected);
+    float object_extent = math::max_abs_component(projected);
+    float offset = scene::transformed_spawn_offset(surface.norms(), inner.spawn_offset.at(object_extent), object_extent,
+                                                   math::max_abs_component(world));
+    return {world, 0.0f, 0.0f, {offset, 0.0f}};
+}
+
+}  // namespace twinray::sse
