@@ -9,6 +9,7 @@
 #include "reference/tracer.h"
 #include "scene/geometry.h"
 #include "scene/loader.h"
+#include "scene/placement.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
 #include "tests/scene_files.h"
@@ -69,6 +70,20 @@ double size_of(const twinray::scene::Object& primitive) {
         primitive.shape);
 }
 
+// A transformed primitive's normal goes through L⁻ᵀ: an object-space error of u turns it by up to κ(L)·u
+// (scene::condition_number, 1 for a primitive in world coordinates), the derived bound of docs/numerics.md.
+double normal_condition_of(const twinray::scene::Object& primitive) {
+    return std::visit(
+        [](const auto& shape) {
+            if constexpr (requires { shape.to_world(); }) {
+                return twinray::scene::condition_number(shape.to_world());
+            } else {
+                return 1.0;
+            }
+        },
+        primitive.shape);
+}
+
 class FarFromTheOrigin : public ::testing::TestWithParam<fs::path> {
 protected:
     void SetUp() override {
@@ -90,10 +105,13 @@ protected:
 // stands, before any move: the exact tracer by 5 of 3 072 pixels over 1/255 (0.16%, explained silhouettes;
 // 0.08% at its own 240 pixels), the textbook quadratic by 2.2% (cancellation on primitives 100 times smaller
 // than their distance). The two tests below hold it far from the origin.
+// Nor the textbook quadratic on the ellipsoid of eccentricity 1e4: in its object space every ray starts 1e4 radii
+// from the sphere, where b² − c cancels (docs/sse-tracer.md); it misses the tolerance unmoved (79% of pixels).
 TEST_P(FarFromTheOrigin, SseImageStaysWithinTheUntranslatedScenesToleranceForEveryKnob) {
     if (GetParam().stem() == "lattice") {
         GTEST_SKIP() << "the lattice misses its tolerance at 64 pixels unmoved (see the comment above)";
     }
+    const bool textbook_cancels = GetParam().stem() == "ellipsoid_eccentric";
     for (double shift : shifts) {
         twinray::scene::Scene moved = twinray::numerics::transformed(scene_, 1, shift);
         twinray::RenderOptions options = small_image(moved);
@@ -104,6 +122,9 @@ TEST_P(FarFromTheOrigin, SseImageStaysWithinTheUntranslatedScenesToleranceForEve
                     GetParam().stem().c_str(), shift, 100.0 * naive.fail_pixels / naive.pixel_count, tolerance_.fail,
                     naive.max_error);
         for (const twinray::sse::Precision& precision : twinray::sse::every_built_precision()) {
+            if (textbook_cancels && precision.textbook_quadratic) {
+                continue;
+            }
             twinray::compare::Metrics metrics = twinray::compare::measure(
                 expected, twinray::compare::clamped(twinray::sse::render(moved, options, precision).image), tolerance_);
             double percent = 100.0 * metrics.fail_pixels / metrics.pixel_count;
@@ -171,7 +192,8 @@ TEST_P(FarFromTheOrigin, PrimaryHitsAreWithinSixteenUnitRoundoffsOfSizePlusDista
                 Vec3d across = twinray::math::cross(normal, exact_normal);
                 double normal_angle = std::atan2(std::sqrt(twinray::math::dot(across, across)),
                                                  std::fabs(twinray::math::dot(normal, exact_normal)));
-                double normal_share = normal_angle * (size > 0 ? size : distance_and_size) * cos_incidence / bound;
+                double normal_share = normal_angle * (size > 0 ? size : distance_and_size) * cos_incidence /
+                                      (bound * normal_condition_of(leaf));
                 EXPECT_LE(t_share, 1.0) << "moved " << shift << ", pixel " << x << "," << y;
                 EXPECT_LE(normal_share, 1.0) << "moved " << shift << ", pixel " << x << "," << y;
                 worst_t_share = std::max(worst_t_share, t_share);
@@ -183,7 +205,7 @@ TEST_P(FarFromTheOrigin, PrimaryHitsAreWithinSixteenUnitRoundoffsOfSizePlusDista
     EXPECT_GT(checked, 0);
     std::printf(
         "[ measured ] %s: %ld primary hits at 1e3 … 1e7; |dt| at most %.3f and the normal %.3f of the "
-        "bound 16·u·(size + distance from the camera)\n",
+        "bound 16·u·(size + distance from the camera), times κ(L) for a transformed normal\n",
         GetParam().stem().c_str(), checked, worst_t_share, worst_normal_share);
 }
 

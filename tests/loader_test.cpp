@@ -181,12 +181,32 @@ const std::vector<Malformed> malformed_scenes = {
     {"mesh_normal_zero.json", "objects[1].normals[1]", "a normal must be non-zero"},
     {"mesh_smooth_not_boolean.json", "objects[1].smooth", "expected true or false, got 1"},
     {"mesh_unknown_key.json", "objects[1].faces",
-     "unknown key \"faces\"; allowed keys for a mesh: type, vertices, triangles, normals, file, smooth, material"},
+     "unknown key \"faces\"; allowed keys for a mesh: type, vertices, triangles, normals, file, smooth, material, "
+     "transform"},
     {"mesh_as_csg_child.json", "objects[1].children[1]", "a mesh may not be a CSG child"},
     // A mesh file, beside the scene file: readable, alone, well-formed (its own location kept in the problem).
     {"mesh_file_missing.json", "objects[1].file", "no_such_model.obj"},
     {"mesh_file_and_vertices.json", "objects[1].vertices", "a mesh gives either a \"file\" or its vertices"},
     {"mesh_file_malformed.json", "objects[1].file", "out_of_range.obj: line"},
+    // Transforms: a list of one-key steps, each well-formed, their composition finite and well conditioned (also
+    // with the CSG ancestors' transforms), never singular.
+    {"transform_not_array.json", "objects[0].transform", "expected a list of transform steps"},
+    {"transform_step_two_keys.json", "objects[0].transform[0]", "this one holds translate, scale"},
+    {"transform_step_empty.json", "objects[0].transform[0]", "got an empty object"},
+    {"transform_step_unknown_key.json", "objects[0].transform[0].rotation",
+     "unknown key \"rotation\"; allowed keys for a transform step: translate, scale, rotate, matrix"},
+    {"transform_scale_zero.json", "objects[0].transform[0].scale[1]", "a scale factor must be non-zero"},
+    {"transform_scale_two_factors.json", "objects[0].transform[0].scale", "expected a number or 3 factors"},
+    {"transform_rotate_zero_axis.json", "objects[0].transform[0].rotate.axis", "a rotation's axis must be non-zero"},
+    {"transform_rotate_axis_without_angle.json", "objects[0].transform[0].rotate.deg", "missing required key \"deg\""},
+    {"transform_matrix_singular.json", "objects[0].transform[0].matrix", "the matrix is singular"},
+    {"transform_matrix_row_of_three.json", "objects[0].transform[0].matrix[1]", "expected 4 numbers, got 3"},
+    {"transform_matrix_two_rows.json", "objects[0].transform[0].matrix", "expected 3 rows of 4 numbers"},
+    {"transform_badly_conditioned.json", "objects[0].transform",
+     "too badly conditioned: its condition number ‖L‖·‖L⁻¹‖ (Frobenius) is 1414213.5623748628, the limit is 1e+05"},
+    {"transform_overflows.json", "objects[0].transform", "overflow double"},
+    {"transform_csg_composed_badly_conditioned.json", "objects[0].children[0].transform", "too badly conditioned"},
+    {"transform_mesh_singular.json", "objects[0].transform[0].matrix", "the matrix is singular"},
 };
 
 class MalformedScene : public ::testing::TestWithParam<Malformed> {};
@@ -391,6 +411,76 @@ TEST(SceneLoader, PrimitivesKeepTheirValues) {
     const auto& box = std::get<Box>(scene.objects.at(2).shape);
     EXPECT_EQ(box.min, (Vec3{-1, -2, -3}));
     EXPECT_EQ(box.max, (Vec3{1, 2, 3}));
+}
+
+// Where a primitive of the same kind holds the placed one, the loader places it in double: a translation on a
+// binary grid, a power-of-two scale and a turn by 90° (exact: cos 90° is taken as 0, not 6e-17) leave every
+// value exact.
+TEST(SceneLoader, TransformsThatAPrimitiveKindHoldsArePlacedExactly) {
+    const Scene scene = parse_with_camera(R"("objects": [
+        { "type": "sphere", "center": [1, 0, 0], "radius": 0.5,
+          "transform": [{"scale": 2}, {"rotate": [0, 0, 90]}, {"translate": [0.25, -3, 8]}] },
+        { "type": "cylinder", "base": [0, 0, 0], "cap": [0, 2, 0], "radius": 0.25,
+          "transform": [{"rotate": {"axis": [1, 0, 0], "deg": -90}}, {"scale": 0.5}] },
+        { "type": "box", "min": [-1, -2, -3], "max": [1, 2, 3],
+          "transform": [{"rotate": [0, 90, 0]}, {"scale": [2, -1, 4]}, {"translate": [1, 1, 1]}] },
+        { "type": "plane", "normal": [0, 1, 0], "offset": 1,
+          "transform": [{"rotate": [90, 0, 0]}, {"scale": 4}, {"translate": [0, 0, 0.5]}] } ])");
+    const auto& sphere = std::get<Sphere>(scene.objects.at(0).shape);
+    EXPECT_EQ(sphere.center, (Vec3{0.25, -1, 8}));
+    EXPECT_EQ(sphere.radius, 1);
+    const auto& cylinder = std::get<Cylinder>(scene.objects.at(1).shape);
+    EXPECT_EQ(cylinder.base, (Vec3{0, 0, 0}));
+    EXPECT_EQ(cylinder.cap, (Vec3{0, 0, -1}));
+    EXPECT_EQ(cylinder.radius, 0.125);
+    // About y by 90°, x goes to −z and z to x: [−3, 3] × [−2, 2] × [−1, 1], then scaled and moved.
+    const auto& box = std::get<Box>(scene.objects.at(2).shape);
+    EXPECT_EQ(box.min, (Vec3{-5, -1, -3}));
+    EXPECT_EQ(box.max, (Vec3{7, 3, 5}));
+    // y = 1 turned about x to z = 1, scaled to z = 4, moved to z = 4.5.
+    const auto& plane = std::get<Plane>(scene.objects.at(3).shape);
+    EXPECT_EQ(plane.normal, (Vec3{0, 0, 1}));
+    EXPECT_EQ(plane.offset, 4.5);
+}
+
+// An uneven scale of a sphere or cylinder, or a turn of a box off the axes, stays in object space with the whole
+// transform, its steps composed in list order (each applied after the ones before it).
+TEST(SceneLoader, TransformsNoPrimitiveKindHoldsStayInObjectSpaceComposedInListOrder) {
+    const Scene scene = parse_with_camera(R"("objects": [
+        { "type": "sphere", "center": [0, 0, 0], "radius": 1,
+          "transform": [{"scale": [2, 1, 1]}, {"translate": [1, 0, 0]}] },
+        { "type": "sphere", "center": [0, 0, 0], "radius": 1,
+          "transform": [{"translate": [1, 0, 0]}, {"scale": [2, 1, 1]}] },
+        { "type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "transform": [{"rotate": [0, 0, 45]}] } ])");
+    const auto& scaled_then_moved = std::get<Transformed<Sphere>>(scene.objects.at(0).shape);
+    EXPECT_EQ(scaled_then_moved.to_world().point_to_world({1, 0, 0}), (Vec3{3, 0, 0}));
+    const auto& moved_then_scaled = std::get<Transformed<Sphere>>(scene.objects.at(1).shape);
+    EXPECT_EQ(moved_then_scaled.to_world().point_to_world({1, 0, 0}), (Vec3{4, 0, 0}));
+    EXPECT_EQ(moved_then_scaled.to_world().point_to_object({4, 0, 0}), (Vec3{1, 0, 0}));
+    const auto& turned = std::get<Transformed<Box>>(scene.objects.at(2).shape);
+    Vec3 corner = turned.to_world().point_to_world({1, 0, 0});
+    EXPECT_NEAR(corner[0], std::sqrt(0.5), 1e-15);
+    EXPECT_NEAR(corner[1], std::sqrt(0.5), 1e-15) << "counter-clockwise about z, seen from +z";
+}
+
+// A CSG node's transform applies to each child after the child's own; a mesh's to its vertices (and, through the
+// inverse transpose, its normals), so a mirror keeps each triangle's vertex order and so turns its front.
+TEST(SceneLoader, ACsgNodesTransformFollowsItsChildrensAndAMeshsMovesItsVertices) {
+    const Scene scene = parse_with_camera(R"("objects": [
+        { "type": "union", "transform": [{"translate": [0, 10, 0]}], "children": [
+            { "type": "sphere", "center": [0, 0, 0], "radius": 1, "transform": [{"scale": 2}] },
+            { "type": "sphere", "center": [0, 0, 0], "radius": 1, "transform": [{"translate": [0, -10, 0]}] } ] },
+        { "type": "mesh", "vertices": [[0, 0, 1], [1, 0, 1], [0, 1, 1]], "triangles": [[0, 1, 2]],
+          "normals": [[0, 0, 1], [0, 0, 1], [0, 3, 4]], "transform": [{"scale": [1, 1, -1]}] } ])");
+    const auto& csg = std::get<Csg>(scene.objects.at(0).shape);
+    EXPECT_EQ(std::get<Sphere>(csg.children.at(0).shape).center, (Vec3{0, 10, 0}));
+    EXPECT_EQ(std::get<Sphere>(csg.children.at(0).shape).radius, 2);
+    EXPECT_EQ(std::get<Sphere>(csg.children.at(1).shape).center, (Vec3{0, 0, 0}));
+    const MeshData& mesh = *scene.meshes.at(0).data;
+    EXPECT_EQ(mesh.vertices.at(1), (Vec3{1, 0, -1}));
+    EXPECT_EQ(mesh.triangles.at(0), (std::array<std::uint32_t, 3>{0, 1, 2}));
+    EXPECT_EQ(mesh.normals.at(0), (Vec3{0, 0, -1}));
+    EXPECT_EQ(mesh.normals.at(2), (Vec3{0, 0.6, -0.8}));
 }
 
 TEST(SceneLoader, NamedMaterialsFollowTheDefaultInFileOrder) {

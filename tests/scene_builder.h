@@ -4,6 +4,7 @@
 #pragma once
 
 #include "scene/geometry.h"
+#include "scene/placement.h"
 #include "scene/scene.h"
 
 #include <array>
@@ -37,6 +38,12 @@ inline scene::Object cylinder(scene::Vec3 base, scene::Vec3 cap, double radius, 
 
 inline scene::Object box(scene::Vec3 min, scene::Vec3 max, int material = 0) {
     return {scene::Box{min, max}, material, -1};
+}
+
+// The primitive placed by `to_world`, as the loader places one with a "transform" (scene/placement.h).
+inline scene::Object placed(scene::Object primitive, const scene::Transform& to_world) {
+    primitive.shape = scene::placed(primitive.shape, to_world);
+    return primitive;
 }
 
 // `material` is the node's own named material, inherited by children that name none.
