@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <variant>
 
 namespace twinray::scene {
@@ -275,8 +276,8 @@ public:
         : names_(names), max_primitives_(max_primitives), scene_(scene), base_directory_(std::move(base_directory)) {}
 
     // `level` bounds the recursion (max_object_nesting); `inherited_material` is that of the nearest
-    // ancestor naming one, else the default; `placement` the CSG ancestors' transforms composed.
-    Object read(const Node& node, int level, int inherited_material, const Transform& placement) {
+    // ancestor naming one, else the default; `placement` the CSG ancestors' transforms composed, if any.
+    Object read(const Node& node, int level, int inherited_material, const std::optional<Transform>& placement) {
         if (level > max_object_nesting) {
             refuse(node.path(), "objects nested deeper than " + std::to_string(max_object_nesting) +
                                     " levels; a top-level object is level 1 and each CSG child one level deeper");
@@ -285,7 +286,7 @@ public:
         require_keys_of(node, kind.schema);
         const int material = read_or(node, "material", inherited_material,
                                      [this](const Node& name) { return require_material_name(name); });
-        const Transform to_world = placed_by(node, placement);
+        const std::optional<Transform> to_world = placed_by(node, placement);
         if (const CsgOp* op = std::get_if<CsgOp>(&kind.shape)) {
             return Object{read_csg(node, *op, level, material, to_world), material, -1};
         }
@@ -297,7 +298,10 @@ public:
                    over_primitive_limit("primitive number " + std::to_string(max_primitives_ + 1) + " of the scene",
                                         max_primitives_));
         }
-        Shape shape = placed(std::get<Shape (*)(const Node&)>(kind.shape)(node), to_world);
+        Shape shape = std::get<Shape (*)(const Node&)>(kind.shape)(node);
+        if (to_world) {
+            shape = placed(shape, *to_world);
+        }
         const int leaf = static_cast<int>(scene_.leaf_paths.size());
         scene_.leaf_paths.push_back(node.path());
         scene_.leaf_materials.push_back(material);
@@ -320,7 +324,9 @@ public:
         } else {
             *data = read_inline_mesh(node, triangles_allowed);
         }
-        place(*data, placed_by(node, identity_transform()));
+        if (const std::optional<Transform> to_world = placed_by(node, std::nullopt)) {
+            place(*data, *to_world);
+        }
         finish_mesh(node, *data);
         const int leaf = static_cast<int>(scene_.leaf_paths.size());
         scene_.leaf_paths.push_back(node.path());
@@ -329,13 +335,14 @@ public:
     }
 
 private:
-    // The node's own transform, if it has one, applied before its ancestors' `placement`.
-    static Transform placed_by(const Node& node, const Transform& placement) {
+    // The node's own transform, if it has one, applied before its ancestors' `placement`; none if neither has.
+    static std::optional<Transform> placed_by(const Node& node, const std::optional<Transform>& placement) {
         const std::optional<Node> list = find_key(node, "transform");
         if (!list) {
             return placement;
         }
-        Transform to_world = math::composed(placement, read_transform(*list));
+        Transform own = read_transform(*list);
+        Transform to_world = placement ? math::composed(*placement, own) : own;
         require_usable(*list, to_world);
         return to_world;
     }
@@ -353,7 +360,7 @@ private:
         return static_cast<int>(found - names_.begin());
     }
 
-    Csg read_csg(const Node& node, CsgOp op, int level, int material, const Transform& placement) {
+    Csg read_csg(const Node& node, CsgOp op, int level, int material, const std::optional<Transform>& placement) {
         const Node children = at(node, "children");
         const std::vector<Node> elements = require_array(children, "an array of objects");
         if (elements.size() < 2) {
@@ -384,8 +391,7 @@ void read_top_level_object(const Node& element, const std::vector<std::string>& 
         return;
     }
     const std::size_t leaves_before = scene.leaf_paths.size();
-    scene.objects.push_back(
-        ObjectReader(material_names, max_primitives, scene).read(element, 1, 0, identity_transform()));
+    scene.objects.push_back(ObjectReader(material_names, max_primitives, scene).read(element, 1, 0, std::nullopt));
     const std::size_t leaves = scene.leaf_paths.size() - leaves_before;
     if (leaves > static_cast<std::size_t>(max_csg_leaves)) {
         refuse(element.path(),

@@ -63,9 +63,11 @@ auto make_surface(const scene::Transformed<S>& primitive) {
 }
 
 // As the reference: o' = L⁻¹·(o − t), d' = L⁻¹·d, the primitive's span along d'/|d'|, and t = t'/|d'|. One
-// reciprocal of |d'| serves the three components and both ends (the thesis's shared denominator).
+// reciprocal of |d'| serves the three components and both ends (the thesis's shared denominator). Not inlined,
+// unlike the other kernels: inlined, its three instances grew every per-type loop past what GCC inlines into
+// the walks, and scenes without transforms paid 3 % more instructions for it.
 template <typename P, typename Inner>
-TWINRAY_KERNEL Span4 span_of(const TransformedShape<Inner>& shape, const RayPacket& rays) {
+__attribute__((noinline)) Span4 span_of(const TransformedShape<Inner>& shape, const RayPacket& rays) {
     Vec3x4 origin = mutated<Mutant::transform_order_swapped> ? shape.inverse * rays.origin - shape.translation
                                                              : shape.inverse * (rays.origin - shape.translation);
     Vec3x4 direction = shape.inverse * rays.direction;

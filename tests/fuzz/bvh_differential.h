@@ -84,7 +84,11 @@ public:
         DifferentialCase out;
         // One read per statement: the order in which operands of + are evaluated is unspecified, and the
         // fuzzer (clang) and the replay (GCC) must decode the same bytes into the same case.
-        out.fast_kernels = in_.byte() % 4 % 3;
+        int first = in_.byte();
+        out.fast_kernels = first % 4 % 3;
+        // The high bit, clear in every input older than transforms, gives objects transforms: old inputs keep
+        // decoding to the very cases they found.
+        transforms_ = (first & 0x80) != 0;
         int width = 4 + in_.byte() % 4;
         int height = 3 + in_.byte() % 3;
         scene::Vec3 eye = in_.point();
@@ -171,8 +175,43 @@ private:
         return choice == 5 && !named ? "" : names[choice % 5];
     }
 
-    // At most `leaves_left` primitives and 4 levels.
+    // At most `leaves_left` primitives and 4 levels; with transforms on, sometimes placed by one (about the first
+    // point the object stands at, which rays aim at): a primitive's kind keeps some, the rest stay in object space.
     std::string object(int level, int& leaves_left, const std::string& own_material) {
+        std::size_t first_anchor = anchors_.size();
+        std::string text = untransformed_object(level, leaves_left, own_material);
+        if (transforms_ && anchors_.size() > first_anchor && in_.byte() % 8 < 3) {
+            text.insert(text.size() - 1, transform_about(anchors_[first_anchor]));
+        }
+        return text;
+    }
+
+    // Moved to the origin, scaled unevenly (factors 1/4 to 4, a quarter of them mirrored) or turned about any
+    // axis or both, and moved back.
+    std::string transform_about(const scene::Vec3& at) {
+        int kind = in_.byte() % 3;
+        std::string steps = "{\"translate\": " + test::json::vec3(-1.0 * at) + "}";
+        if (kind != 1) {
+            scene::Vec3 factors;
+            for (int axis = 0; axis < 3; ++axis) {
+                int code = in_.byte();
+                factors[axis] = (code % 4 == 0 ? -0.25 : 0.25) * (1 + code / 4 % 16);
+            }
+            steps += ", {\"scale\": " + test::json::vec3(factors) + "}";
+        }
+        if (kind != 0) {
+            scene::Vec3 axis = in_.point();
+            if (axis == scene::Vec3{}) {
+                axis = {0, 1, 0};
+            }
+            double degrees = in_.byte() % 2 == 0 ? 90.0 * (in_.byte() % 4) : in_.byte() * (360.0 / 256);
+            steps += ", {\"rotate\": {\"axis\": " + test::json::vec3(axis) +
+                     ", \"deg\": " + test::json::number(degrees) + "}}";
+        }
+        return ", \"transform\": [" + steps + ", {\"translate\": " + test::json::vec3(at) + "}]";
+    }
+
+    std::string untransformed_object(int level, int& leaves_left, const std::string& own_material) {
         int kind = in_.byte() % 10;
         if (kind >= 8 && level < 4 && leaves_left >= 2) {
             static const char* ops[] = {"union", "intersection", "difference"};
@@ -245,6 +284,7 @@ private:
     }
 
     ByteReader in_;
+    bool transforms_ = false;
     std::vector<scene::Vec3> anchors_;  // a point of each primitive, for rays to aim at
 };
 
