@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <ctime>
+#include <deque>
 #include <limits>
 #include <stdexcept>
 #include <variant>
@@ -106,20 +107,26 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
         if (args->valid[i] == 0) {
             continue;
         }
+        // Inside an instance Embree hands over L⁻¹·d, not of unit length; the reference's formula takes a unit
+        // direction, along which t grows by that length.
+        FloatVec direction{RTCRayN_dir_x(rays, args->N, i), RTCRayN_dir_y(rays, args->N, i),
+                           RTCRayN_dir_z(rays, args->N, i)};
+        float length = reference::length(direction);
         reference::Ray<float> ray{
             {RTCRayN_org_x(rays, args->N, i), RTCRayN_org_y(rays, args->N, i), RTCRayN_org_z(rays, args->N, i)},
-            {RTCRayN_dir_x(rays, args->N, i), RTCRayN_dir_y(rays, args->N, i), RTCRayN_dir_z(rays, args->N, i)}};
+            direction / length};
         float near = RTCRayN_tnear(rays, args->N, i);
         float& far = RTCRayN_tfar(rays, args->N, i);
         auto span = reference::span_of(shape, ray);
         if (!span) {
             continue;
         }
-        const reference::Crossing<float>& crossing = span->enter.t > near ? span->enter : span->exit;
-        if (!(crossing.t > near && crossing.t < far)) {
+        const reference::Crossing<float>& crossing = span->enter.t / length > near ? span->enter : span->exit;
+        float t = crossing.t / length;
+        if (!(t > near && t < far)) {
             continue;
         }
-        far = crossing.t;
+        far = t;
         RTCHitN_Ng_x(hits, args->N, i) = crossing.outward_normal[0];
         RTCHitN_Ng_y(hits, args->N, i) = crossing.outward_normal[1];
         RTCHitN_Ng_z(hits, args->N, i) = crossing.outward_normal[2];
@@ -131,31 +138,32 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
     }
 }
 
+// The primitives of one Embree scene, gathered by kind before they become its geometries.
+struct Geometries {
+    std::vector<float> spheres;  // x, y, z, r
+    Quads quads;
+    UserGeometry user;
+};
+
 // Each primitive as Embree holds it: spheres natively, planes and boxes as quads, cylinders as user
-// geometry intersected by the reference's formula. Anything else (CSG, a primitive the peer has not
-// learnt) is refused.
-void add_to_peer(const scene::Sphere& sphere, int, std::vector<float>& spheres, Quads&, UserGeometry&) {
+// geometry intersected by the reference's formula. Anything else (CSG) is refused; a transformed primitive
+// becomes an instance (add_placed).
+void add_to_peer(const scene::Sphere& sphere, int, Geometries& geometries) {
     for (double v : {sphere.center[0], sphere.center[1], sphere.center[2], sphere.radius}) {
-        spheres.push_back(static_cast<float>(v));
+        geometries.spheres.push_back(static_cast<float>(v));
     }
 }
-void add_to_peer(const scene::Plane& plane, int, std::vector<float>&, Quads& quads, UserGeometry&) {
-    add_plane(plane, quads);
+void add_to_peer(const scene::Plane& plane, int, Geometries& geometries) {
+    add_plane(plane, geometries.quads);
 }
-void add_to_peer(const scene::Box& box, int, std::vector<float>&, Quads& quads, UserGeometry&) {
-    add_box(box, quads);
+void add_to_peer(const scene::Box& box, int, Geometries& geometries) {
+    add_box(box, geometries.quads);
 }
-void add_to_peer(const scene::Cylinder& cylinder, int leaf, std::vector<float>&, Quads&, UserGeometry& user) {
-    user.shapes.push_back(reference::make_shape<float>(cylinder, leaf));
-}
-template <typename S>
-void add_to_peer(const scene::Transformed<S>&, int, std::vector<float>&, Quads&, UserGeometry&) {
-    throw std::runtime_error(
-        "Embree peer: primitives placed by a transform no primitive expresses (an ellipsoid, a turned box) are not "
-        "supported");
+void add_to_peer(const scene::Cylinder& cylinder, int leaf, Geometries& geometries) {
+    geometries.user.shapes.push_back(reference::make_shape<float>(cylinder, leaf));
 }
 template <typename Unsupported>
-void add_to_peer(const Unsupported&, int, std::vector<float>&, Quads&, UserGeometry&) {
+void add_to_peer(const Unsupported&, int, Geometries&) {
     throw std::runtime_error("Embree peer: scenes with CSG are not supported");
 }
 
@@ -213,9 +221,11 @@ struct FloatRay {
 struct State {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    UserGeometry user;
-    Quads quads;
-    std::vector<float> spheres;  // x, y, z, r
+    Geometries world;
+    // A scene of its own per transformed primitive, in object space, with its geometries (kept where they are:
+    // Embree shares their buffers).
+    std::deque<Geometries> placed;
+    std::vector<RTCScene> placed_scenes;
     int width = 0, height = 0;
     std::vector<FloatRay> rays;  // row by row
     double build_seconds = 0;    // CPU: the geometries and the scene's BVH, on one thread
@@ -223,10 +233,73 @@ struct State {
     ~State() {
         if (scene != nullptr)
             rtcReleaseScene(scene);
+        for (RTCScene child : placed_scenes)
+            rtcReleaseScene(child);
         if (device != nullptr)
             rtcReleaseDevice(device);
     }
 };
+
+// The gathered primitives as Embree geometries of `scene`: the spheres, the quads and the user geometry, each
+// one geometry where there are any.
+void attach_all(RTCDevice device, RTCScene scene, Geometries& g) {
+    if (!g.spheres.empty()) {
+        RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, g.spheres.data(), 0,
+                                   4 * sizeof(float), g.spheres.size() / 4);
+        attach(scene, geometry);
+    }
+    if (!g.quads.indices.empty()) {
+        g.quads.vertices.push_back(0.0f);  // the padding
+        RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, g.quads.vertices.data(), 0,
+                                   3 * sizeof(float), (g.quads.vertices.size() - 1) / 3);
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, g.quads.indices.data(), 0,
+                                   4 * sizeof(unsigned), g.quads.indices.size() / 4);
+        attach(scene, geometry);
+    }
+    if (!g.user.shapes.empty()) {
+        for (const Shape& shape : g.user.shapes) {
+            g.user.bounds.push_back(bounds_of(shape));
+        }
+        RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(g.user.shapes.size()));
+        rtcSetGeometryUserData(geometry, &g.user);
+        rtcSetGeometryBoundsFunction(geometry, user_bounds, nullptr);
+        rtcSetGeometryIntersectFunction(geometry, user_intersect);
+        attach(scene, geometry);
+    }
+}
+
+template <typename S>
+void add_object(State& s, const S& shape, int leaf) {
+    add_to_peer(shape, leaf, s.world);
+}
+
+// A transformed primitive as Embree's own instancing holds it: the primitive in a scene of its own, in object
+// space, and an instance of that scene placed by the transform. Embree carries the ray into object space by
+// the inverse as we do (without re-basing or normalising it).
+template <typename S>
+void add_object(State& s, const scene::Transformed<S>& primitive, int leaf) {
+    Geometries& geometries = s.placed.emplace_back();
+    add_to_peer(primitive.shape(), leaf, geometries);
+    RTCScene child = rtcNewScene(s.device);
+    s.placed_scenes.push_back(child);
+    attach_all(s.device, child, geometries);
+    rtcCommitScene(child);
+    const scene::Transform& m = primitive.to_world();
+    float rows[12];
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            rows[4 * i + j] = static_cast<float>(m.linear.row[i][j]);
+        }
+        rows[4 * i + 3] = static_cast<float>(m.translation[i]);
+    }
+    RTCGeometry instance = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(instance, child);
+    rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, rows);
+    attach(s.scene, instance);
+}
 
 void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, int height, EmbreeIsa isa,
              EmbreeMode mode) {
@@ -242,35 +315,9 @@ void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, i
     s.scene = rtcNewScene(s.device);
     rtcSetSceneFlags(s.scene, mode == EmbreeMode::robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
     for (const scene::Object& object : scene.objects) {
-        std::visit([&](const auto& shape) { add_to_peer(shape, object.leaf, s.spheres, s.quads, s.user); },
-                   object.shape);
+        std::visit([&](const auto& shape) { add_object(s, shape, object.leaf); }, object.shape);
     }
-    if (!s.spheres.empty()) {
-        RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, s.spheres.data(), 0,
-                                   4 * sizeof(float), s.spheres.size() / 4);
-        attach(s.scene, geometry);
-    }
-    if (!s.quads.indices.empty()) {
-        s.quads.vertices.push_back(0.0f);  // the padding
-        RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_QUAD);
-        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, s.quads.vertices.data(), 0,
-                                   3 * sizeof(float), (s.quads.vertices.size() - 1) / 3);
-        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, s.quads.indices.data(), 0,
-                                   4 * sizeof(unsigned), s.quads.indices.size() / 4);
-        attach(s.scene, geometry);
-    }
-    if (!s.user.shapes.empty()) {
-        for (const Shape& shape : s.user.shapes) {
-            s.user.bounds.push_back(bounds_of(shape));
-        }
-        RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_USER);
-        rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(s.user.shapes.size()));
-        rtcSetGeometryUserData(geometry, &s.user);
-        rtcSetGeometryBoundsFunction(geometry, user_bounds, nullptr);
-        rtcSetGeometryIntersectFunction(geometry, user_intersect);
-        attach(s.scene, geometry);
-    }
+    attach_all(s.device, s.scene, s.world);
     for (const scene::Mesh& mesh : scene.meshes) {
         add_mesh(s.device, s.scene, *mesh.data);
     }
