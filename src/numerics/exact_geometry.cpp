@@ -193,13 +193,16 @@ Vec3d normal_at(const scene::Transformed<S>& primitive, const Point& p) {
     return unit(m.normal_to_world(Point(normal_at(primitive.shape(), m.point_to_object(p)))));
 }
 // To first order in the distance, which is all a hit point's error is: the object-space distance φ over the
-// rate |L⁻ᵀ·n̂ₒ| at which φ grows per unit of world distance along the surface's normal.
+// rate |L⁻ᵀ·n̂ₒ| at which φ grows per unit of world distance along the surface's normal. A point where the
+// primitive has no normal (a sphere's very centre, where a float hit far from the origin can round to) gets
+// φ/‖L⁻¹‖_F, which the world distance is never below.
 template <typename S>
 Real distance_to(const scene::Transformed<S>& primitive, const Point& p) {
     math::Transform<Real> m = exact_map(primitive.to_world());
     Point object_point = m.point_to_object(p);
-    Point rate = m.normal_to_world(Point(normal_at(primitive.shape(), object_point)));
-    return distance_to(primitive.shape(), object_point) / math::length(rate);
+    Real distance = distance_to(primitive.shape(), object_point);
+    Real rate = math::length(m.normal_to_world(Point(normal_at(primitive.shape(), object_point))));
+    return rate > 0 && std::isfinite(rate) ? distance / rate : distance / math::frobenius_norm(m.inverse);
 }
 
 // A CSG object is not a primitive: these queries take leaves only, and a CSG object answers `none`.
