@@ -160,14 +160,7 @@ Transform rotation(const Vec3& axis, double degrees) {
     Matrix3 linear{{{c + k * a.x * a.x, k * a.x * a.y - s * a.z, k * a.x * a.z + s * a.y},
                     {k * a.y * a.x + s * a.z, c + k * a.y * a.y, k * a.y * a.z - s * a.x},
                     {k * a.z * a.x - s * a.y, k * a.z * a.y + s * a.x, c + k * a.z * a.z}}};
-    // An orthogonal matrix's inverse is its transpose, exactly.
-    Matrix3 inverse;
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            inverse.row[i][j] = linear.row[j][i];
-        }
-    }
-    return {linear, inverse, {0, 0, 0}};
+    return affine(linear, {0, 0, 0});
 }
 
 Transform rotation_xyz(const Vec3& degrees) {
