@@ -8,10 +8,11 @@
 namespace twinray {
 namespace {
 
-// The module's path in this build tree (TWINRAY_OPENIMAGEIO_MODULE, set by src/CMakeLists.txt).
+// The module installed beside twinray, else in this build tree (both paths set by src/CMakeLists.txt).
 const OpenImageIoFunctions& load_module() {
-    return io::load_shared_module<OpenImageIoFunctions>(TWINRAY_OPENIMAGEIO_MODULE, "twinray_openimageio_functions",
-                                                        "the OpenImageIO module");
+    return io::load_shared_module<OpenImageIoFunctions>(
+        io::installed_or_built(TWINRAY_OPENIMAGEIO_MODULE_INSTALLED, TWINRAY_OPENIMAGEIO_MODULE).c_str(),
+        "twinray_openimageio_functions", "the OpenImageIO module");
 }
 
 // Loaded once per process, by whichever thread asks first; a failed load is retried on the next call.

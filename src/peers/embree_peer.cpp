@@ -8,10 +8,11 @@
 namespace twinray::peers {
 namespace {
 
-// The module's path in this build tree (TWINRAY_EMBREE_MODULE, set by src/cli/CMakeLists.txt).
+// The module installed beside twinray, else in this build tree (both paths set by src/cli/CMakeLists.txt).
 const EmbreeFunctions& load_module() {
-    return io::load_shared_module<EmbreeFunctions>(TWINRAY_EMBREE_MODULE, "twinray_embree_functions",
-                                                   "the Embree module");
+    return io::load_shared_module<EmbreeFunctions>(
+        io::installed_or_built(TWINRAY_EMBREE_MODULE_INSTALLED, TWINRAY_EMBREE_MODULE).c_str(),
+        "twinray_embree_functions", "the Embree module");
 }
 
 const EmbreeFunctions& module_functions() {

@@ -1,5 +1,6 @@
 #include "scene/mesh_file.h"
 
+#include "io/shared_module.h"
 #include "scene/loader.h"
 #include "scene/mesh_wire.h"
 #include "scene/read_values.h"
@@ -114,7 +115,8 @@ MeshFileResult checked(wire::Message message, std::size_t max_triangles) {
 }  // namespace
 
 std::filesystem::path MeshReader::default_program() {
-    return TWINRAY_MESH_READER;  // its path in this build tree, set by src/CMakeLists.txt
+    // Installed beside twinray, else in this build tree (both paths set by src/CMakeLists.txt).
+    return io::installed_or_built(TWINRAY_MESH_READER_INSTALLED, TWINRAY_MESH_READER);
 }
 
 MeshFileResult read_mesh_file(const std::filesystem::path& file, std::size_t max_triangles) {

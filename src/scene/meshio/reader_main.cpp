@@ -18,11 +18,12 @@ namespace {
 using twinray::scene::meshio::MeshLibraryFunctions;
 using twinray::scene::meshio::MeshReading;
 
-// The module's path in this build tree (TWINRAY_MESH_LIBRARY, set by src/CMakeLists.txt).
+// The module installed beside this reader, else in this build tree (both set by src/CMakeLists.txt).
 MeshReading read(const char* file, std::size_t max_triangles) {
     try {
         const auto& library = twinray::io::load_shared_module<MeshLibraryFunctions>(
-            TWINRAY_MESH_LIBRARY, "twinray_mesh_library_functions", "the mesh library module");
+            twinray::io::installed_or_built(TWINRAY_MESH_LIBRARY_INSTALLED, TWINRAY_MESH_LIBRARY).c_str(),
+            "twinray_mesh_library_functions", "the mesh library module");
         return library.read(file, max_triangles);
     } catch (const std::exception& error) {
         MeshReading reading;
