@@ -41,6 +41,26 @@ BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::i
     return added;
 }
 
+// What brute force spends on the object per packet, in sphere tests (relative_test_cost): a CSG object its
+// leaves' and 2.2 more, for its bound and the fold of its spans (measured as the primitives' costs are).
+double brute_force_cost(const scene::Object& object) {
+    return std::visit(
+        [](const auto& shape) {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (scene::is_primitive<S>) {
+                return relative_test_cost<ShapeOf<S>>;
+            } else {
+                double cost = 0;
+                for (const scene::Object& child : shape.children) {
+                    cost += brute_force_cost(child);
+                }
+                return cost;
+            }
+        },
+        object.shape);
+}
+constexpr double csg_object_cost = 2.2;
+
 bool is_finite(const scene::Bounds& bounds) {
     for (int axis = 0; axis < 3; ++axis) {
         if (!std::isfinite(bounds.low[axis]) || !std::isfinite(bounds.high[axis])) {
@@ -77,13 +97,12 @@ public:
         std::vector<BvhInput> bounded;
         bounded.reserve(scene_.objects.size());
         std::vector<BvhItem> unbounded;
-        // What the choice of a BVH weighs: a CSG object counts as its primitives, since brute force tests its
-        // bound for every packet and evaluates it wherever met.
-        std::size_t bounded_leaves = 0;
+        // What the choice of a BVH weighs: what brute force would spend on the bounded objects, in sphere tests.
+        double bounded_cost = 0;
         for (const scene::Object& object : scene_.objects) {
             BvhItem item;
             scene::Bounds bounds;
-            std::size_t leaves = 1;
+            double cost = brute_force_cost(object);
             if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
                 CsgObject compiled;
                 add_csg_node(compiled, *csg, out);
@@ -92,7 +111,7 @@ public:
                 compiled.bound = make_shape(bound);
                 item = {csg_list, static_cast<std::uint32_t>(out.csg_objects.size())};
                 bounds = {bound.min, bound.max};
-                leaves = compiled.slot_leaf.size();
+                cost += csg_object_cost;
                 out.csg_objects.push_back(std::move(compiled));
             } else {
                 item = add_primitive(out.primitives, object, object.leaf, transmission_of(object), out.leaves);
@@ -100,7 +119,7 @@ public:
             }
             if (is_finite(bounds)) {
                 bounded.push_back({bounds, item});
-                bounded_leaves += leaves;
+                bounded_cost += cost;
             } else {
                 unbounded.push_back(item);
             }
@@ -110,8 +129,8 @@ public:
         for (std::size_t mesh = 0; mesh < scene_.meshes.size(); ++mesh) {
             add_mesh(out, scene_.meshes[mesh], static_cast<std::uint32_t>(mesh), any_smooth, bounded);
         }
-        bounded_leaves += out.triangles.items.size();
-        if (accel_ == Accel::bvh || (accel_ == Accel::automatic && bounded_leaves > bvh_crossover)) {
+        bounded_cost += triangle_test_cost * static_cast<double>(out.triangles.items.size());
+        if (accel_ == Accel::bvh || (accel_ == Accel::automatic && bounded_cost > static_cast<double>(bvh_crossover))) {
             add_bvh(out, bounded, unbounded, scene_.has_transparency());
         }
         for (const scene::Light& light : scene_.lights) {

@@ -250,8 +250,7 @@ struct CompiledScene {
     const PrimitiveLists& flat() const { return bvh.empty() ? primitives : unbounded; }
 };
 
-// `accel`: automatic builds a BVH where the scene has more than bvh_crossover primitives in bounded objects
-// (tracer.h).
+// `accel`: automatic builds a BVH where brute force would cost more than bvh_crossover sphere tests (tracer.h).
 CompiledScene compile(const scene::Scene& scene, Accel accel = Accel::automatic);
 
 }  // namespace twinray::sse

@@ -55,6 +55,19 @@ struct SurfaceAnchor {
     math::SurfaceBound<float> spawn_offset;
 };
 
+// What testing a packet against one primitive of a kind costs, relative to a sphere: what `--accel auto` weighs
+// brute force by against a BVH (compiled_scene.cpp; docs/performance.md, "The crossover of --accel auto"). A kind
+// that costs more declares `test_cost` (box.h, transformed.h), measured as the instructions a render spends per
+// primitive added.
+template <typename Shape>
+constexpr double relative_test_cost = [] {
+    if constexpr (requires { Shape::test_cost; }) {
+        return Shape::test_cost;
+    } else {
+        return 1.0;
+    }
+}();
+
 // A kernel that divides by the ray's direction declares `uses_inverse_direction` (box.h): scenes
 // without one never compute the reciprocal.
 template <typename Shape>

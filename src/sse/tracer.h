@@ -65,9 +65,10 @@ std::vector<Precision> every_built_precision();
 // "exact", or the knobs joined by '+' ("rcp+rsqrt+ftz").
 std::string precision_name(const Precision& precision);
 
-// With Accel::automatic (render/render.h) the tracer builds its BVH (docs/sse-tracer.md) where the scene has
-// more than bvh_crossover primitives in bounded objects (a CSG object counts as its primitives), the count
-// from which it measured faster (docs/performance.md, "The BVH").
+// With Accel::automatic (render/render.h) the tracer builds its BVH (docs/sse-tracer.md) where brute force
+// would spend more than bvh_crossover sphere tests per packet on the bounded objects: each primitive weighed
+// by its kind's relative_test_cost (a box 2.7, a triangle 6.2, a CSG object its leaves and 2.2), the count of
+// spheres from which it measured faster (docs/performance.md, "The BVH").
 constexpr std::size_t bvh_crossover = 64;
 
 // The point the tracer compiles a scene relative to, in double (re-basing, docs/numerics.md): the eye

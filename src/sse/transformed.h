@@ -19,6 +19,8 @@ namespace twinray::sse {
 // L⁻¹ and t broadcast (see SphereShape): 192 bytes beside the primitive's own record.
 template <typename Inner>
 struct TransformedShape {
+    // The trip into object space costs 1.7 spheres' worth more than the primitive (relative_test_cost).
+    static constexpr double test_cost = relative_test_cost<Inner> + 1.7;
     Inner inner;
     math::Matrix3<vfloat4> inverse;
     Vec3x4 translation;
