@@ -9,33 +9,17 @@
 #include "reference/ray.h"
 #include "reference/sphere.h"
 
-#include <memory>
 #include <optional>
 
 namespace twinray::reference {
 
-// Held apart, shared by copies (as scene::Transformed): the variant of every object stays its plain size.
+// The primitive in object space (its leaf is this one's), its transform and norms, held apart
+// (scene::TransformedRecord): the variant of every object stays its plain size.
 template <typename T, typename Inner>
-class TransformedShape {
-public:
+struct TransformedShape : scene::TransformedRecord<T, Inner> {
     TransformedShape(const Inner& inner, const scene::Transform& to_world, int leaf_)
-        : placed_(std::make_shared<const Placed>(
-              Placed{inner, math::Transform<T>::from(to_world), scene::transform_norms<T>(to_world)})),
-          leaf(leaf_) {}
+        : scene::TransformedRecord<T, Inner>(inner, to_world), leaf(leaf_) {}
 
-    const Inner& inner() const { return placed_->inner; }  // in object space; its leaf is this one's
-    const math::Transform<T>& to_world() const { return placed_->to_world; }
-    const scene::TransformNorms<T>& norms() const { return placed_->norms; }
-
-private:
-    struct Placed {
-        Inner inner;
-        math::Transform<T> to_world;
-        scene::TransformNorms<T> norms;
-    };
-    std::shared_ptr<const Placed> placed_;
-
-public:
     int leaf = -1;
 };
 

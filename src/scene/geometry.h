@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 namespace twinray::scene {
@@ -281,6 +282,28 @@ TransformNorms<T> transform_norms(const Transform& m) {
     return {up(math::frobenius_norm(m.linear)), up(math::frobenius_norm(m.inverse)), up(math::row_sum_norm(m.linear)),
             up(math::row_sum_norm(m.inverse)), up(largest_coordinate(m.translation))};
 }
+// What a tracer keeps beside a transformed primitive's own record, in its precision T: the primitive as that tracer
+// holds it (its shape or its surface), the transform and its norms. Held apart and shared by copies, as
+// Transformed is, so that a tracer's per-primitive variants keep their plain size.
+template <typename T, typename Inner>
+class TransformedRecord {
+public:
+    TransformedRecord(const Inner& inner, const Transform& to_world)
+        : placed_(std::make_shared<const Placed>(
+              Placed{inner, math::Transform<T>::from(to_world), transform_norms<T>(to_world)})) {}
+
+    const Inner& inner() const { return placed_->inner; }
+    const math::Transform<T>& to_world() const { return placed_->to_world; }
+    const TransformNorms<T>& norms() const { return placed_->norms; }
+
+private:
+    struct Placed {
+        Inner inner;
+        math::Transform<T> to_world;
+        TransformNorms<T> norms;
+    };
+    std::shared_ptr<const Placed> placed_;
+};
 // How far off a transformed primitive's surface its secondary rays start: the object-space offset
 // `object_offset` of the re-projected point p'ₒ (|p'ₒ|∞ = `object_point`), carried to the world point p'_w
 // (|p'_w|∞ = `world_point`). reference/transformed.h derives it.

@@ -32,15 +32,20 @@ bool is_signed_permutation(const Matrix3& l, int source[3]) {
     return true;
 }
 
+// A signed permutation's common magnitude, or 0 where its scales differ.
+double even_scale(const Matrix3& l, const int source[3]) {
+    double s = std::fabs(l.row[0][source[0]]);
+    bool even = std::fabs(l.row[1][source[1]]) == s && std::fabs(l.row[2][source[2]]) == s;
+    return even ? s : 0;
+}
+
 // The factor s of a similarity, L = s·Q with Q orthogonal, if L is one: exactly for a signed permutation whose
 // scales agree in magnitude, else where LᵀL = s²·I within 32 ulps (a rotation composed in double is orthogonal
 // only to rounding, which is ~1e-16 of the size: far below what float can see). 0 if L is no similarity.
 double similarity_factor(const Matrix3& l) {
     int source[3];
     if (is_signed_permutation(l, source)) {
-        double s = std::fabs(l.row[0][source[0]]);
-        bool even = std::fabs(l.row[1][source[1]]) == s && std::fabs(l.row[2][source[2]]) == s;
-        return even ? s : 0;
+        return even_scale(l, source);
     }
     double gram[3][3];
     double trace = 0;
@@ -86,8 +91,8 @@ void cos_sin(double degrees, double& c, double& s) {
 
 Shape placed_plane(const Plane& plane, const Transform& m) {
     int source[3];
-    double s = similarity_factor(m.linear);
-    if (is_signed_permutation(m.linear, source) && s > 0) {
+    double s = is_signed_permutation(m.linear, source) ? even_scale(m.linear, source) : 0;
+    if (s > 0) {
         // L = s·P: the normal is P·n exactly, and n'·(L·(d·n) + t) = s·d + n'·t.
         Vec3 normal;
         for (int i = 0; i < 3; ++i) {

@@ -11,7 +11,6 @@
 #include "sse/span4.h"
 #include "sse/sphere.h"
 
-#include <memory>
 #include <utility>
 
 namespace twinray::sse {
@@ -26,26 +25,10 @@ struct TransformedShape {
     Vec3x4 translation;
 };
 
-// Held apart, shared by copies: every Leaf stays the size of the largest plain surface.
+// The primitive's surface, its transform and norms, held apart (scene::TransformedRecord): every Leaf stays the
+// size of the largest plain surface.
 template <typename InnerSurface>
-class TransformedSurface {
-public:
-    TransformedSurface(const InnerSurface& inner, const scene::Transform& to_world)
-        : placed_(std::make_shared<const Placed>(
-              Placed{inner, math::Transform<float>::from(to_world), scene::transform_norms<float>(to_world)})) {}
-
-    const InnerSurface& inner() const { return placed_->inner; }
-    const math::Transform<float>& to_world() const { return placed_->to_world; }
-    const scene::TransformNorms<float>& norms() const { return placed_->norms; }
-
-private:
-    struct Placed {
-        InnerSurface inner;
-        math::Transform<float> to_world;
-        scene::TransformNorms<float> norms;
-    };
-    std::shared_ptr<const Placed> placed_;
-};
+using TransformedSurface = scene::TransformedRecord<float, InnerSurface>;
 
 template <typename S>
 auto make_shape(const scene::Transformed<S>& primitive) {
