@@ -153,9 +153,44 @@ Tracer<T>::Tracer(const scene::Scene& scene, Accel accel)
     if (accel == Accel::bvh || (accel == Accel::automatic && bounded_primitives > bvh_crossover)) {
         bvh_ = ObjectBvh<T>(bounds);
     }
-    for (const scene::Mesh& mesh : scene.meshes) {
-        meshes_.push_back(make_shape<T>(mesh, accel));
+    for (const scene::MeshShape& shape : scene.mesh_shapes) {
+        mesh_shapes_.push_back(make_shape<T>(*shape.data, -1, accel));
     }
+    std::vector<scene::Bounds> shape_bounds;
+    for (const scene::MeshShape& shape : scene.mesh_shapes) {
+        shape_bounds.push_back(scene::vertex_bounds(*shape.data));
+    }
+    std::vector<scene::Bounds> instance_bounds;
+    for (const scene::Mesh& mesh : scene.meshes) {
+        if (!mesh.placement) {
+            meshes_.push_back(make_shape<T>(mesh, accel));
+            continue;
+        }
+        instances_.push_back(make_instance<T>(mesh));
+        instance_bounds.push_back(
+            scene::placed_bounds(shape_bounds[static_cast<std::size_t>(mesh.shape)], *mesh.placement));
+    }
+    // An instance's test carries the ray into its space and walks its shape's BVH: many box tests' worth.
+    if (accel != Accel::none) {
+        instance_bvh_ = ObjectBvh<T>(instance_bounds);
+    }
+}
+
+template <typename T>
+template <typename Limit, typename Visit>
+void Tracer<T>::for_each_instance_crossing(const Ray<T>& ray, Limit&& limit, Visit&& visit) const {
+    auto test = [&](std::size_t index) {
+        const MeshInstance<T>& instance = instances_[index];
+        for_each_crossing(mesh_shapes_[instance.shape], object_ray(instance, ray), limit,
+                          [&](const TriangleCrossing<T>& crossing) { visit(instance, crossing); });
+    };
+    if (instance_bvh_.empty()) {
+        for (std::size_t i = 0; i < instances_.size(); ++i) {
+            test(i);
+        }
+        return;
+    }
+    instance_bvh_.for_each_met(ray, limit, test);
 }
 
 template <typename T>
@@ -206,13 +241,15 @@ std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
         }
     });
     // Ties at equal t: the earlier leaf, then within a mesh the lower triangle.
+    auto nearer = [&](T t, int leaf, int triangle) {
+        return !nearest || t < nearest->t ||
+               (t == nearest->t && (leaf < nearest->leaf || (leaf == nearest->leaf && triangle < nearest->triangle)));
+    };
     const MeshShape<T>* hit_mesh = nullptr;
     for (const MeshShape<T>& mesh : meshes_) {
         for_each_crossing(mesh, ray, limit, [&](const TriangleCrossing<T>& crossing) {
             int triangle = static_cast<int>(crossing.triangle);
-            if (!nearest || crossing.t < nearest->t ||
-                (crossing.t == nearest->t &&
-                 (mesh.leaf < nearest->leaf || (mesh.leaf == nearest->leaf && triangle < nearest->triangle)))) {
+            if (nearer(crossing.t, mesh.leaf, triangle)) {
                 Vec3<T> front = front_normal(mesh, crossing.triangle);
                 Vec3<T> facing = crossing.front ? front : -front;
                 nearest =
@@ -221,20 +258,39 @@ std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
             }
         });
     }
+    const MeshInstance<T>* hit_instance = nullptr;
+    for_each_instance_crossing(ray, limit, [&](const MeshInstance<T>& instance, const TriangleCrossing<T>& crossing) {
+        int triangle = static_cast<int>(crossing.triangle);
+        if (nearer(crossing.t, instance.leaf, triangle)) {
+            Vec3<T> facing = facing_normal(instance, mesh_shapes_[instance.shape], crossing);
+            nearest = Hit<T>{crossing.t, ray.at(crossing.t),
+                             facing,     instance.leaf,
+                             triangle,   crossing.front != instance.mirrors,
+                             T(0),       facing};
+            hit_instance = &instance;
+        }
+    });
     if (!nearest) {
         return nearest;
     }
-    SurfacePoint<T> on_surface =
-        hit_mesh != nullptr
-            ? surface_point(*hit_mesh, static_cast<std::uint32_t>(nearest->triangle), nearest->point, nearest->normal)
-            : std::visit([&](const auto& shape) { return surface_point(shape, nearest->point, nearest->normal); },
-                         leaf_shapes_[static_cast<std::size_t>(nearest->leaf)]);
-    nearest->point = on_surface.point;
-    nearest->spawn_offset = on_surface.spawn_offset;
-    if (hit_mesh != nullptr) {
-        nearest->shading_normal =
-            shading_normal(*hit_mesh, static_cast<std::uint32_t>(nearest->triangle), nearest->point, nearest->normal);
+    const auto triangle = static_cast<std::uint32_t>(nearest->triangle);
+    SurfacePoint<T> on_surface;
+    if (hit_instance != nullptr) {
+        const MeshShape<T>& shape = mesh_shapes_[hit_instance->shape];
+        on_surface = surface_point(*hit_instance, shape, triangle, nearest->point);
+        nearest->point = on_surface.point;
+        nearest->shading_normal = shading_normal(*hit_instance, shape, triangle, nearest->point, nearest->normal);
+    } else if (hit_mesh != nullptr) {
+        on_surface = surface_point(*hit_mesh, triangle, nearest->point, nearest->normal);
+        nearest->point = on_surface.point;
+        nearest->shading_normal = shading_normal(*hit_mesh, triangle, nearest->point, nearest->normal);
+    } else {
+        on_surface =
+            std::visit([&](const auto& shape) { return surface_point(shape, nearest->point, nearest->normal); },
+                       leaf_shapes_[static_cast<std::size_t>(nearest->leaf)]);
+        nearest->point = on_surface.point;
     }
+    nearest->spawn_offset = on_surface.spawn_offset;
     return nearest;
 }
 
@@ -281,22 +337,38 @@ T Tracer<T>::shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const 
 }
 
 // Each triangle crossed strictly before the light multiplies in its mesh's transmission, mesh after mesh in
-// file order, after the objects; all of a mesh's factors are equal, so the order its BVH finds them in cannot
-// change the product. Once nothing gets through, the walk's limit drops below 0 and it stops.
+// file order, after the objects, then instance after instance in file order; all of a mesh's factors are equal,
+// so the order its BVH finds them in cannot change the product. Once nothing gets through, the walk's limit
+// drops below 0 and it stops.
 template <typename T>
 T Tracer<T>::meshes_transmittance(const Ray<T>& ray, T distance, T transmittance) const {
+    auto limit = [&] { return transmittance == T(0) ? T(-1) : distance; };
     for (const MeshShape<T>& mesh : meshes_) {
         T surface = material_of(mesh.leaf).transmission;
-        for_each_crossing(
-            mesh, ray, [&] { return transmittance == T(0) ? T(-1) : distance; },
-            [&](const TriangleCrossing<T>& crossing) {
-                if (crossing.t < distance) {
-                    transmittance *= surface;
-                }
-            });
+        for_each_crossing(mesh, ray, limit, [&](const TriangleCrossing<T>& crossing) {
+            if (crossing.t < distance) {
+                transmittance *= surface;
+            }
+        });
         if (transmittance == T(0)) {
-            break;
+            return transmittance;
         }
+    }
+    if (instances_.empty()) {
+        return transmittance;
+    }
+    // The leaf of every instance triangle crossed before the light, multiplied in file order.
+    std::vector<int> crossed;
+    for_each_instance_crossing(
+        ray, [&] { return distance; },
+        [&](const MeshInstance<T>& instance, const TriangleCrossing<T>& crossing) {
+            if (crossing.t < distance) {
+                crossed.push_back(instance.leaf);
+            }
+        });
+    std::sort(crossed.begin(), crossed.end());
+    for (int leaf : crossed) {
+        transmittance *= material_of(leaf).transmission;
     }
     return transmittance;
 }
@@ -312,6 +384,9 @@ int Tracer<T>::mesh_crossings(const Ray<T>& ray, T distance) const {
             mesh, ray, [&] { return distance; },
             [&](const TriangleCrossing<T>& crossing) { count += crossing.t < distance ? 1 : 0; });
     }
+    for_each_instance_crossing(
+        ray, [&] { return distance; },
+        [&](const MeshInstance<T>&, const TriangleCrossing<T>& crossing) { count += crossing.t < distance ? 1 : 0; });
     return count;
 }
 

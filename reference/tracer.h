@@ -129,6 +129,16 @@ private:
     ObjectBvh<T> bvh_;                            // empty: every ray tests every object
     // Tested by every ray after the objects, each through its own BVH; a mesh's leaf in leaf_shapes_ is unused.
     std::vector<MeshShape<T>> meshes_;
+    // Instances of mesh shapes, tested after the meshes: each shape built once in its own space (leaf unused),
+    // the instances in file order and found through instance_bvh_ unless the BVH is off.
+    std::vector<MeshShape<T>> mesh_shapes_;
+    std::vector<MeshInstance<T>> instances_;
+    ObjectBvh<T> instance_bvh_;
+
+    // Calls visit(instance, object ray, crossing) for every triangle of every instance the ray meets with t in
+    // (0, limit()], as for_each_crossing does (in no particular order).
+    template <typename Limit, typename Visit>
+    void for_each_instance_crossing(const Ray<T>& ray, Limit&& limit, Visit&& visit) const;
 
     // Calls visit(object) for the objects a ray may meet within [0, limit()]: every object, or with a BVH the
     // unbounded ones and those it finds (in no particular order).

@@ -61,14 +61,23 @@ std::optional<Span<T>> span_of(const TransformedShape<T, Inner>& shape, const Ra
 //   offset δₒ: δ ≥ ‖L‖·(δₒ + √3·(e_fwd + ‖L⁻¹‖·e_back)), solved for δ since |o| holds δ too.
 // A point the primitive leaves where it is (already within its own rounding of the surface) is not carried
 // back, so it stays as the ray found it.
+// `in_object(object_point)` is the object's own surface_point there; a mesh instance's hits come back the same way.
+template <typename T, typename InObject>
+SurfacePoint<T> placed_surface_point(const math::Transform<T>& m, const scene::TransformNorms<T>& norms, Vec3<T> point,
+                                     InObject&& in_object) {
+    Vec3<T> object_point = m.point_to_object(point);
+    SurfacePoint<T> inner = in_object(object_point);
+    Vec3<T> projected = inner.point == object_point ? point : m.point_to_world(inner.point);
+    return {projected, scene::transformed_spawn_offset(norms, inner.spawn_offset, max_abs_component(inner.point),
+                                                       max_abs_component(projected))};
+}
+
 template <typename T, typename Inner>
 SurfacePoint<T> surface_point(const TransformedShape<T, Inner>& shape, Vec3<T> point, Vec3<T> normal) {
     const math::Transform<T>& m = shape.to_world();
-    Vec3<T> object_point = m.point_to_object(point);
-    SurfacePoint<T> inner = surface_point(shape.inner(), object_point, normalize(m.normal_to_object(normal)));
-    Vec3<T> projected = inner.point == object_point ? point : m.point_to_world(inner.point);
-    return {projected, scene::transformed_spawn_offset(shape.norms(), inner.spawn_offset,
-                                                       max_abs_component(inner.point), max_abs_component(projected))};
+    return placed_surface_point(m, shape.norms(), point, [&](Vec3<T> object_point) {
+        return surface_point(shape.inner(), object_point, normalize(m.normal_to_object(normal)));
+    });
 }
 
 }  // namespace twinray::reference

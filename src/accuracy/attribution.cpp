@@ -107,8 +107,20 @@ std::vector<Curvature> curvatures(const scene::Scene& scene) {
     for (const scene::Object& object : scene.objects) {
         collect_curvatures(object, by_leaf);
     }
+    std::vector<double> shape_radius;
+    for (const scene::MeshShape& shape : scene.mesh_shapes) {
+        shape_radius.push_back(shading_radius(*shape.data));
+    }
     for (const scene::Mesh& mesh : scene.meshes) {
-        by_leaf[static_cast<std::size_t>(mesh.leaf)].mesh_radius = shading_radius(*mesh.data);
+        double& radius = by_leaf[static_cast<std::size_t>(mesh.leaf)].mesh_radius;
+        if (!mesh.placement) {
+            radius = shading_radius(*mesh.data);
+            continue;
+        }
+        // As a transformed primitive's curvature_radius: shrunk by the most the transform can bend it.
+        const double shrink = math::frobenius_norm(mesh.placement->inverse);
+        radius = shape_radius[static_cast<std::size_t>(mesh.shape)] /
+                 (shrink * shrink * math::frobenius_norm(mesh.placement->linear));
     }
     return by_leaf;
 }

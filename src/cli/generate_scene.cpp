@@ -14,7 +14,7 @@ struct Family {
     bool writes_mesh;
 };
 
-const std::array<Family, 11> families = {{
+const std::array<Family, 12> families = {{
     {"fractal", generate::write_fractal, false},
     {"field", generate::write_field, false},
     {"lattice", generate::write_lattice, false},
@@ -26,6 +26,7 @@ const std::array<Family, 11> families = {{
     {"triangle-soup", generate::write_triangle_soup, true},
     {"mount", generate::write_mount, true},
     {"gears", generate::write_gears, true},
+    {"forest", generate::write_forest, true},
 }};
 
 }  // namespace

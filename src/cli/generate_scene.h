@@ -21,11 +21,11 @@ constexpr int max_generated_primitives = 1'000'000;
 static_assert(static_cast<std::size_t>(max_generated_primitives) <= scene::max_scene_primitives);
 constexpr int default_generated_primitives = 1000;
 
-// fractal, field, lattice, csg, sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup, mount, gears: the order
-// in which help and messages list them.
+// fractal, field, lattice, csg, sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup, mount, gears, forest: the
+// order in which help and messages list them.
 const std::vector<std::string>& generated_family_names();
 
-// Whether the family writes a mesh (sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup, mount, gears).
+// Whether the family writes a mesh (sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup, mount, gears, forest).
 bool is_mesh_family(std::string_view family);
 
 struct GeneratedScene {
@@ -55,6 +55,8 @@ struct GeneratedScene {
 //   open surface, shared vertices: the 2·4^d (d >= 0) nearest `size`;
 // - gears: SPD's gears, a g × g grid of 24-tooth gears, each a closed prism of two concave faces (94
 //   triangles each) and 96 side quads: the 380g² (g >= 1) nearest.
+// - forest: one tree declared as a mesh shape (1 008 triangles, counted once) and exactly `size` instances of it
+//   on a jittered square grid, each turned, scaled and coloured at random (`size` counting the instances).
 // The closed meshes are counter-clockwise seen from outside. Ties go to the smaller scene. Throws std::invalid_argument for an unknown family or a size outside
 // 1..max_generated_primitives.
 GeneratedScene generate_scene(std::string_view family, int size, std::uint64_t seed, const SceneSink& sink);

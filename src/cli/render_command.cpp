@@ -7,6 +7,7 @@
 #include "scene/depth_control.h"
 #include "scene/loader.h"
 #include "scene/mesh_file.h"
+#include "scene/refusal.h"
 
 #include <unistd.h>
 #include <atomic>
@@ -121,22 +122,34 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Each mesh's triangles, those with no area that no tracer ever hits, and its topology (glass needs a closed
-// mesh: a ray must leave what it entered); then what the loader read and does not use.
+// One mesh's triangles, those with no area that no tracer ever hits, and its topology (glass needs a closed mesh:
+// a ray must leave what it entered); `placed` says how many instances place a mesh shape.
+void print_mesh(const char* label, const std::string& name, const scene::MeshData& data, const std::string& placed) {
+    const scene::MeshTopology topology = scene::topology_of(data);
+    std::printf("%s%s%s: %zu triangles, %zu vertices, %zu degenerate (never hit)%s; %s", label, name.c_str(),
+                data.file.empty() ? "" : (" (" + data.file + ")").c_str(), data.triangles.size(), data.vertices.size(),
+                data.degenerate.size(), data.smooth ? ", smooth" : "", topology.closed() ? "closed" : "open");
+    if (!topology.closed()) {
+        std::printf(" (%zu boundary, %zu non-manifold, %zu inconsistently wound edges)", topology.boundary_edges,
+                    topology.non_manifold_edges, topology.inconsistently_wound_edges);
+    }
+    std::printf("%s\n", placed.c_str());
+}
+
+// Each mesh, each mesh shape once with its count of instances; then what the loader read and does not use.
 void print_meshes(const scene::Scene& scene) {
+    std::vector<std::size_t> instances(scene.mesh_shapes.size(), 0);
     for (const scene::Mesh& mesh : scene.meshes) {
-        const scene::MeshData& data = *mesh.data;
-        const scene::MeshTopology topology = scene::topology_of(data);
-        std::printf("mesh:        %s%s: %zu triangles, %zu vertices, %zu degenerate (never hit)%s; %s",
-                    scene.leaf_paths[static_cast<std::size_t>(mesh.leaf)].c_str(),
-                    data.file.empty() ? "" : (" (" + data.file + ")").c_str(), data.triangles.size(),
-                    data.vertices.size(), data.degenerate.size(), data.smooth ? ", smooth" : "",
-                    topology.closed() ? "closed" : "open");
-        if (!topology.closed()) {
-            std::printf(" (%zu boundary, %zu non-manifold, %zu inconsistently wound edges)", topology.boundary_edges,
-                        topology.non_manifold_edges, topology.inconsistently_wound_edges);
+        if (mesh.placement) {
+            ++instances[static_cast<std::size_t>(mesh.shape)];
+        } else {
+            print_mesh("mesh:        ", scene.leaf_paths[static_cast<std::size_t>(mesh.leaf)], *mesh.data, "");
         }
-        std::printf("\n");
+    }
+    for (std::size_t i = 0; i < scene.mesh_shapes.size(); ++i) {
+        const std::size_t count = instances[i];
+        print_mesh("shape:       ", scene::key_path("shapes", scene.mesh_shapes[i].name), *scene.mesh_shapes[i].data,
+                   "; placed by " + std::to_string(count) + (count == 1 ? " instance" : " instances"));
     }
     for (const std::string& warning : scene.warnings) {
         std::fprintf(stderr, "twinray render: warning: %s\n", warning.c_str());

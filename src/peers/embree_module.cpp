@@ -276,18 +276,8 @@ void add_object(State& s, const S& shape, int leaf) {
     add_to_peer(shape, leaf, s.world);
 }
 
-// A transformed primitive as Embree's own instancing holds it: the primitive in a scene of its own, in object
-// space, and an instance of that scene placed by the transform. Embree carries the ray into object space by
-// the inverse as we do (without re-basing or normalising it).
-template <typename S>
-void add_object(State& s, const scene::Transformed<S>& primitive, int leaf) {
-    Geometries& geometries = s.placed.emplace_back();
-    add_to_peer(primitive.shape(), leaf, geometries);
-    RTCScene child = rtcNewScene(s.device);
-    s.placed_scenes.push_back(child);
-    attach_all(s.device, child, geometries);
-    rtcCommitScene(child);
-    const scene::Transform& m = primitive.to_world();
+// An instance of `child` placed in the scene by `m`.
+void attach_instance(State& s, RTCScene child, const scene::Transform& m) {
     float rows[12];
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
@@ -299,6 +289,33 @@ void add_object(State& s, const scene::Transformed<S>& primitive, int leaf) {
     rtcSetGeometryInstancedScene(instance, child);
     rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, rows);
     attach(s.scene, instance);
+}
+
+// A transformed primitive as Embree's own instancing holds it: the primitive in a scene of its own, in object
+// space, and an instance of that scene placed by the transform. Embree carries the ray into object space by
+// the inverse as we do (without re-basing or normalising it).
+template <typename S>
+void add_object(State& s, const scene::Transformed<S>& primitive, int leaf) {
+    Geometries& geometries = s.placed.emplace_back();
+    add_to_peer(primitive.shape(), leaf, geometries);
+    RTCScene child = rtcNewScene(s.device);
+    s.placed_scenes.push_back(child);
+    attach_all(s.device, child, geometries);
+    rtcCommitScene(child);
+    attach_instance(s, child, primitive.to_world());
+}
+
+// Each mesh shape once, as a scene of its own in its own space, for its instances (Embree's two-level scenes).
+std::vector<RTCScene> shape_scenes(State& s, const scene::Scene& scene) {
+    std::vector<RTCScene> scenes;
+    for (const scene::MeshShape& shape : scene.mesh_shapes) {
+        RTCScene child = rtcNewScene(s.device);
+        s.placed_scenes.push_back(child);
+        add_mesh(s.device, child, *shape.data);
+        rtcCommitScene(child);
+        scenes.push_back(child);
+    }
+    return scenes;
 }
 
 void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, int height, EmbreeIsa isa,
@@ -318,8 +335,13 @@ void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, i
         std::visit([&](const auto& shape) { add_object(s, shape, object.leaf); }, object.shape);
     }
     attach_all(s.device, s.scene, s.world);
+    const std::vector<RTCScene> shapes = shape_scenes(s, scene);
     for (const scene::Mesh& mesh : scene.meshes) {
-        add_mesh(s.device, s.scene, *mesh.data);
+        if (mesh.placement) {
+            attach_instance(s, shapes[static_cast<std::size_t>(mesh.shape)], *mesh.placement);
+        } else {
+            add_mesh(s.device, s.scene, *mesh.data);
+        }
     }
     rtcCommitScene(s.scene);
     s.build_seconds = cpu_seconds() - build_start;

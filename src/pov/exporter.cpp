@@ -2,6 +2,7 @@
 
 #include "scene/depth_control.h"
 #include "scene/geometry.h"
+#include "scene/refusal.h"
 
 #include <algorithm>
 #include <array>
@@ -134,6 +135,13 @@ public:
         header(width, height);
         for (const scene::Object& object : scene_.objects) {
             top_level(object);
+        }
+        // Each mesh shape once; its instances name it (POV-Ray copies a declared mesh's reference, not its data).
+        for (std::size_t i = 0; i < scene_.mesh_shapes.size(); ++i) {
+            line(0, "// " + scene::key_path("shapes", scene_.mesh_shapes[i].name));
+            line(0, "#declare " + shape_identifier(i) + " = mesh2 {");
+            mesh_geometry(*scene_.mesh_shapes[i].data);
+            line(0, "}");
         }
         for (const scene::Mesh& mesh : scene_.meshes) {
             write_mesh(mesh);
@@ -302,28 +310,19 @@ private:
         }
         auto write = [&](Pass pass, const std::vector<std::string>& modifiers) {
             line(0, "// " + scene_.leaf_paths.at(static_cast<std::size_t>(mesh.leaf)));
-            line(0, "mesh2 {");
-            line(1, "vertex_vectors { " + std::to_string(data.vertices.size()) + ",");
-            for (const scene::Vec3& vertex : data.vertices) {
-                line(2, point(vertex) + ",");
+            if (mesh.placement) {
+                line(0, "object {");
+                line(1, shape_identifier(static_cast<std::size_t>(mesh.shape)));
+            } else {
+                line(0, "mesh2 {");
+                mesh_geometry(data);
             }
-            line(1, "}");
-            if (data.smooth) {
-                line(1, "normal_vectors { " + std::to_string(data.normals.size()) + ",");
-                for (const scene::Vec3& normal : data.normals) {
-                    line(2, point(normal) + ",");
-                }
-                line(1, "}");
-            }
-            line(1, "face_indices { " + std::to_string(data.triangles.size() - data.degenerate.size()) + ",");
-            scene::for_each_live_triangle(data, [&](std::uint32_t i) {
-                const std::array<std::uint32_t, 3>& t = data.triangles[i];
-                line(2, "<" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ">,");
-            });
-            line(1, "}");
             appearance(mesh.leaf, mesh.material, 1, pass);
             for (const std::string& modifier : modifiers) {
                 line(1, modifier);
+            }
+            if (mesh.placement) {
+                line(1, matrix(*mesh.placement));
             }
             line(0, "}");
         };
@@ -343,6 +342,30 @@ private:
             line(0, "// The same mesh, invisible to every ray but shadow rays, passing our transmission to shadows.");
             write(Pass::shadow_caster, {"no_image", "no_reflection"});
         }
+    }
+
+    static std::string shape_identifier(std::size_t shape) { return "twinray_shape_" + std::to_string(shape); }
+
+    // A mesh2's vertices, normals where it shades smooth, and live triangles.
+    void mesh_geometry(const scene::MeshData& data) {
+        line(1, "vertex_vectors { " + std::to_string(data.vertices.size()) + ",");
+        for (const scene::Vec3& vertex : data.vertices) {
+            line(2, point(vertex) + ",");
+        }
+        line(1, "}");
+        if (data.smooth) {
+            line(1, "normal_vectors { " + std::to_string(data.normals.size()) + ",");
+            for (const scene::Vec3& normal : data.normals) {
+                line(2, point(normal) + ",");
+            }
+            line(1, "}");
+        }
+        line(1, "face_indices { " + std::to_string(data.triangles.size() - data.degenerate.size()) + ",");
+        scene::for_each_live_triangle(data, [&](std::uint32_t i) {
+            const std::array<std::uint32_t, 3>& t = data.triangles[i];
+            line(2, "<" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ">,");
+        });
+        line(1, "}");
     }
 
     static const char* primitive(const scene::Plane&) { return "plane"; }
@@ -372,7 +395,9 @@ private:
     // it takes Z·L·Z and Z·t.
     template <typename S>
     static std::string geometry(const scene::Transformed<S>& transformed) {
-        const scene::Transform& m = transformed.to_world();
+        return geometry(transformed.shape()) + " " + matrix(transformed.to_world());
+    }
+    static std::string matrix(const scene::Transform& m) {
         auto flip = [](int axis) { return axis == 2 ? -1.0 : 1.0; };
         std::string entries;
         for (int column = 0; column < 3; ++column) {
@@ -381,7 +406,7 @@ private:
             }
         }
         entries += number(m.translation[0]) + ", " + number(m.translation[1]) + ", " + number(-m.translation[2]);
-        return geometry(transformed.shape()) + " matrix <" + entries + ">";
+        return "matrix <" + entries + ">";
     }
 
     void appearance(int leaf, int material_index, int indent, Pass pass) {

@@ -48,9 +48,10 @@ DepthControl::DepthControl(const Scene& scene)
     // A shadow ray multiplies the transmission of every surface it crosses: a primitive is crossed at most
     // twice (it is convex; a plane once), a mesh's triangle once. Transmissions above 1 are legal, so the
     // product may grow with every crossing; it is only bounded by 1 when none exceeds 1.
-    const double most_crossings =
-        2.0 * static_cast<double>(scene.leaf_materials.size() - scene.meshes.size()) +
-        static_cast<double>(scene.primitive_count() - (scene.leaf_paths.size() - scene.meshes.size()));
+    double most_crossings = 2.0 * static_cast<double>(scene.leaf_materials.size() - scene.meshes.size());
+    for (const Mesh& mesh : scene.meshes) {
+        most_crossings += static_cast<double>(mesh.data->triangles.size());  // an instance's: its shape's
+    }
     double shadow = largest_transmission > 1 ? std::pow(largest_transmission, most_crossings) : 1.0;
     struct Bounded {
         double local, children;  // L_m, and reflection + transmission (which total internal reflection keeps)

@@ -100,18 +100,43 @@ std::array<double, 3> barycentrics(const MeshData& mesh, std::uint32_t triangle,
             dot(normal, cross(a - point, b - point)) / whole};
 }
 
+Bounds vertex_bounds(const MeshData& mesh) {
+    Bounds out = around(mesh.vertices.front(), mesh.vertices.front(), 0.0);
+    for (const Vec3& vertex : mesh.vertices) {
+        for (int axis = 0; axis < 3; ++axis) {
+            out.low[axis] = std::min(out.low[axis], vertex[axis]);
+            out.high[axis] = std::max(out.high[axis], vertex[axis]);
+        }
+    }
+    return out;
+}
+
 Mesh moved(const Mesh& mesh, double scale, const Vec3& shift) {
+    Mesh out = mesh;
+    if (out.placement) {
+        // As a transformed primitive's: (s·L)·x + (s·t + shift), the shape's own vertices kept.
+        for (int i = 0; i < 3; ++i) {
+            out.placement->linear.row[i] = scale * out.placement->linear.row[i];
+            out.placement->inverse.row[i] = out.placement->inverse.row[i] / scale;
+        }
+        out.placement->translation = moved(out.placement->translation, scale, shift);
+        return out;
+    }
     auto data = std::make_shared<MeshData>(*mesh.data);
     for (Vec3& vertex : data->vertices) {
         vertex = moved(vertex, scale, shift);
     }
-    return {std::move(data), mesh.material, mesh.leaf};
+    out.data = std::move(data);
+    return out;
 }
 
 double largest_coordinate(const Mesh& mesh) {
     double largest = 0;
     for (const Vec3& vertex : mesh.data->vertices) {
         largest = std::max(largest, largest_coordinate(vertex));
+    }
+    if (mesh.placement) {
+        return largest_coordinate(mesh.placement->translation) + math::row_sum_norm(mesh.placement->linear) * largest;
     }
     return largest;
 }

@@ -198,24 +198,25 @@ inline double placement_rounding(const Transform& m, double object_coordinate) {
     return math::rounding_bound<double>(4) *
            (math::row_sum_norm(m.linear) * object_coordinate + largest_coordinate(m.translation));
 }
-// The box around the object-space box's eight corners, placed, and widened by their rounding.
-template <typename S>
-Bounds bounds(const Transformed<S>& primitive) {
-    const Bounds inner = bounds(primitive.shape());
+// The box around an object-space box's eight corners, placed, and widened by their rounding.
+inline Bounds placed_bounds(const Bounds& inner, const Transform& to_world) {
     constexpr double inf = std::numeric_limits<double>::infinity();
     Bounds out{{inf, inf, inf}, {-inf, -inf, -inf}};
     for (int corner = 0; corner < 8; ++corner) {
         Vec3 p{(corner & 1) ? inner.high.x : inner.low.x, (corner & 2) ? inner.high.y : inner.low.y,
                (corner & 4) ? inner.high.z : inner.low.z};
-        Vec3 placed = primitive.to_world().point_to_world(p);
+        Vec3 placed = to_world.point_to_world(p);
         for (int axis = 0; axis < 3; ++axis) {
             out.low[axis] = std::min(out.low[axis], placed[axis]);
             out.high[axis] = std::max(out.high[axis], placed[axis]);
         }
     }
-    double pad = placement_rounding(primitive.to_world(),
-                                    std::max(largest_coordinate(inner.low), largest_coordinate(inner.high)));
+    double pad = placement_rounding(to_world, std::max(largest_coordinate(inner.low), largest_coordinate(inner.high)));
     return around(out.low, out.high, pad);
+}
+template <typename S>
+Bounds bounds(const Transformed<S>& primitive) {
+    return placed_bounds(bounds(primitive.shape()), primitive.to_world());
 }
 // ‖L‖_F bounds how far L stretches any radius.
 template <typename S>
@@ -350,7 +351,9 @@ void for_each_live_triangle(const MeshData& mesh, Visit&& visit) {
 // areas along its normal over the whole, so they sum to 1 and all lie in [0, 1] inside. In double, from the
 // file's vertices: both tracers' hit points are weighed the same way (probe).
 std::array<double, 3> barycentrics(const MeshData& mesh, std::uint32_t triangle, const Vec3& point);
-// Vertices moved, normals kept (a move is a scale and a translation).
+// The box of every vertex (an instance's shape's, in its own space).
+Bounds vertex_bounds(const MeshData& mesh);
+// Vertices moved, normals kept (a move is a scale and a translation); an instance's placement moved instead.
 Mesh moved(const Mesh& mesh, double scale, const Vec3& shift);
 double largest_coordinate(const Mesh& mesh);
 // own rounding γ(6)·e + γ(3)·|p|∞, spawn offset γ(16)·e + γ(5)·|p'|∞ with e the longest edge

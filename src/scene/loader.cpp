@@ -62,13 +62,21 @@ public:
         ask_huge_pages(scene_.leaf_materials);
     }
 
-    // Only once the material names are known: an object may name one.
+    // Only once the material names are known: an object may name one. The shapes its instances place are read
+    // then, if they came before `objects`.
     bool stream_elements(const JsonTree& read_so_far) override {
         const std::optional<JsonValue> materials = read_so_far.root().find("materials");
         if (materials) {
             material_names_ = material_names_of(*materials);
         }
         streamed_ = materials.has_value();
+        if (streamed_) {
+            try {
+                read_shapes_if_any(read_so_far.root(), material_names_);
+            } catch (const Refusal& refusal) {
+                first_refusal_ = refusal;
+            }
+        }
         return streamed_;
     }
 
@@ -82,7 +90,7 @@ public:
             const Node root = Node::root(tree_.root());
             const Node objects = root.member(array, "objects");
             read_top_level_object(objects.element(value, index), material_names_, max_primitives_, base_directory_,
-                                  scene_);
+                                  shapes_.get(), scene_);
         } catch (const Refusal& refusal) {
             first_refusal_ = refusal;
         }
@@ -107,6 +115,9 @@ public:
             read_materials(*materials, scene_);
         }
         scene_.lights = read_or(root, "lights", scene_.lights, read_lights);
+        if (!streamed_) {
+            read_shapes_if_any(root.json(), scene_.material_names);
+        }
         read_objects(at(root, "objects"));
         return std::move(scene_);
     }
@@ -120,7 +131,15 @@ private:
             return;
         }
         for (const Node& element : require_array(objects, "an array of objects")) {
-            read_top_level_object(element, scene_.material_names, max_primitives_, base_directory_, scene_);
+            read_top_level_object(element, scene_.material_names, max_primitives_, base_directory_, shapes_.get(),
+                                  scene_);
+        }
+    }
+
+    void read_shapes_if_any(const JsonValue& root, const std::vector<std::string>& material_names) {
+        if (const std::optional<JsonValue> shapes = root.find("shapes")) {
+            shapes_ = std::make_unique<DeclaredShapes>(tree_, *shapes);
+            read_shapes(material_names, max_primitives_, base_directory_, scene_, *shapes_);
         }
     }
 
@@ -129,6 +148,7 @@ private:
     const std::filesystem::path base_directory_;
     Scene scene_;
     std::vector<std::string> material_names_;
+    std::unique_ptr<DeclaredShapes> shapes_;  // none where the scene declares no shapes
     bool streamed_ = false;
     std::optional<Refusal> first_refusal_;
 };

@@ -60,7 +60,7 @@ Light read_light(const Node& node) {
 const Schema scene_schema{
     "a scene",
     {"camera", "objects"},
-    {"format", "image", "background", "ambient_light", "max_depth", "min_weight", "materials", "lights"}};
+    {"format", "image", "background", "ambient_light", "max_depth", "min_weight", "materials", "lights", "shapes"}};
 
 void require_format(const Node& node) {
     if (require_string(node) != format_name) {

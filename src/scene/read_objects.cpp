@@ -59,11 +59,14 @@ Shape read_box(const Node& node) {
 
 // A mesh is read apart from the other objects: it is not a Shape (meshes are surfaces, never CSG children).
 struct MeshKind {};
+// An instance places a declared shape (docs/scene-format.md, "Shapes and instances").
+struct InstanceKind {};
 
 struct ObjectKind {
     std::string_view type;
     Schema schema;
-    std::variant<Shape (*)(const Node&), CsgOp, MeshKind> shape;  // how a primitive is read, which CSG node, or a mesh
+    // How a primitive is read, which CSG node, a mesh or an instance.
+    std::variant<Shape (*)(const Node&), CsgOp, MeshKind, InstanceKind> shape;
 };
 
 Schema object_schema(std::string_view noun, std::vector<std::string_view> own_keys) {
@@ -82,6 +85,7 @@ const ObjectKind object_kinds[] = {
     {"mesh",
      Schema{"a mesh", {"type"}, {"vertices", "triangles", "normals", "file", "smooth", "material", "transform"}},
      MeshKind{}},
+    {"instance", Schema{"an instance", {"type", "shape"}, {"material", "transform"}}, InstanceKind{}},
 };
 
 std::string object_types() {
@@ -271,9 +275,15 @@ void finish_mesh(const Node& node, MeshData& mesh) {
 // Reads the objects of one top-level element; `names` are the material names objects may use.
 class ObjectReader {
 public:
+    // `shapes`: those an instance may place, or null while the shapes themselves are read (a shape may not hold an
+    // instance).
     ObjectReader(const std::vector<std::string>& names, std::size_t max_primitives, Scene& scene,
-                 std::filesystem::path base_directory = {})
-        : names_(names), max_primitives_(max_primitives), scene_(scene), base_directory_(std::move(base_directory)) {}
+                 std::filesystem::path base_directory, const DeclaredShapes* shapes)
+        : names_(names),
+          max_primitives_(max_primitives),
+          scene_(scene),
+          base_directory_(std::move(base_directory)),
+          shapes_(shapes) {}
 
     // `level` bounds the recursion (max_object_nesting); `inherited_material` is that of the nearest
     // ancestor naming one, else the default; `placement` the CSG ancestors' transforms composed, if any.
@@ -293,6 +303,15 @@ public:
         if (std::holds_alternative<MeshKind>(kind.shape)) {
             refuse(node.path(), "a mesh may not be a CSG child (meshes are surfaces, not solids); place it in objects");
         }
+        if (std::holds_alternative<InstanceKind>(kind.shape)) {
+            const DeclaredShape& shape = require_shape(node);
+            if (shape.mesh >= 0) {
+                refuse(node.path(),
+                       "an instance of mesh shape " + in_quotes(shape.name) +
+                           " may not be a CSG child (meshes are surfaces, not solids); place it in objects");
+            }
+            return read_instanced(node, shape, level, material, to_world);
+        }
         if (scene_.primitive_count() == max_primitives_) {
             refuse(node.path(),
                    over_primitive_limit("primitive number " + std::to_string(max_primitives_ + 1) + " of the scene",
@@ -303,9 +322,41 @@ public:
             shape = placed(shape, *to_world);
         }
         const int leaf = static_cast<int>(scene_.leaf_paths.size());
-        scene_.leaf_paths.push_back(node.path());
+        scene_.leaf_paths.push_back(instance_path_.empty() ? node.path() : instance_path_ + " (" + node.path() + ")");
         scene_.leaf_materials.push_back(material);
         return Object{std::move(shape), material, leaf};
+    }
+
+    // A top-level instance of a mesh shape: one leaf, the shape's triangles shared. Of any other shape, the shape
+    // read in its place.
+    Object read_top_level_instance(const Node& node) {
+        require_keys_of(node, require_object_kind(node).schema);
+        const DeclaredShape& shape = require_shape(node);
+        const int material =
+            read_or(node, "material", 0, [this](const Node& name) { return require_material_name(name); });
+        const std::optional<Transform> to_world = placed_by(node, std::nullopt);
+        if (shape.mesh < 0) {
+            return read_instanced(node, shape, 1, material, to_world);
+        }
+        if (scene_.primitive_count() == max_primitives_) {
+            refuse(node.path(), over_primitive_limit("the instance", max_primitives_));
+        }
+        const MeshShape& mesh = scene_.mesh_shapes[static_cast<std::size_t>(shape.mesh)];
+        const int leaf = static_cast<int>(scene_.leaf_paths.size());
+        const int own_material = mesh.material >= 0 ? mesh.material : material;
+        scene_.leaf_paths.push_back(node.path() + " (" + key_path("shapes", shape.name) + ")");
+        scene_.leaf_materials.push_back(own_material);
+        scene_.meshes.push_back(
+            Mesh{mesh.data, own_material, leaf, to_world ? *to_world : identity_transform(), shape.mesh});
+        return Object{};
+    }
+
+    // A mesh of `shapes`: its vertices in its own space, its triangles counted towards the limit once.
+    MeshShape read_mesh_shape(const Node& node, std::string name) {
+        require_keys_of(node, require_object_kind(node).schema);
+        const int material =
+            read_or(node, "material", -1, [this](const Node& value) { return require_material_name(value); });
+        return MeshShape{std::move(name), read_mesh_data(node), material};
     }
 
     // A top-level mesh: one leaf, its triangles counted towards the primitive limit.
@@ -313,6 +364,16 @@ public:
         require_keys_of(node, require_object_kind(node).schema);
         const int material =
             read_or(node, "material", 0, [this](const Node& name) { return require_material_name(name); });
+        std::shared_ptr<const MeshData> data = read_mesh_data(node);
+        const int leaf = static_cast<int>(scene_.leaf_paths.size());
+        scene_.leaf_paths.push_back(node.path());
+        scene_.leaf_materials.push_back(material);
+        scene_.meshes.push_back(Mesh{std::move(data), material, leaf, std::nullopt, -1});
+    }
+
+private:
+    // A mesh's vertices (placed by its own transform), triangles and normals, inline or from its file.
+    std::shared_ptr<const MeshData> read_mesh_data(const Node& node) {
         const std::size_t triangles_allowed = max_primitives_ - scene_.primitive_count();
         auto data = std::make_shared<MeshData>();
         if (const std::optional<Node> file = find_key(node, "file")) {
@@ -328,13 +389,26 @@ public:
             place(*data, *to_world);
         }
         finish_mesh(node, *data);
-        const int leaf = static_cast<int>(scene_.leaf_paths.size());
-        scene_.leaf_paths.push_back(node.path());
-        scene_.leaf_materials.push_back(material);
-        scene_.meshes.push_back(Mesh{std::move(data), material, leaf});
+        return data;
     }
 
-private:
+    const DeclaredShape& require_shape(const Node& instance) const {
+        const Node name = at(instance, "shape");
+        if (shapes_ == nullptr) {
+            refuse(instance.path(), "a shape may not hold an instance (instances are one level deep)");
+        }
+        return shapes_->require(name);
+    }
+
+    // The shape read where the instance stands: its primitives placed by the instance's transform (after their
+    // own) and given the instance's material where they name none, each its own leaf named after the instance.
+    Object read_instanced(const Node& instance, const DeclaredShape& shape, int level, int material,
+                          const std::optional<Transform>& to_world) {
+        instance_path_ = instance.path();
+        Object object = read(shapes_->node_of(shape), level, material, to_world);
+        instance_path_.clear();
+        return object;
+    }
     // The node's own transform, if it has one, applied before its ancestors' `placement`; none if neither has.
     static std::optional<Transform> placed_by(const Node& node, const std::optional<Transform>& placement) {
         const std::optional<Node> list = find_key(node, "transform");
@@ -377,28 +451,91 @@ private:
     const std::size_t max_primitives_;
     Scene& scene_;
     const std::filesystem::path base_directory_;  // where a mesh's file is looked for
+    const DeclaredShapes* shapes_;
+    std::string instance_path_;  // while a shape is read for an instance: the instance's path
 };
 
-}  // namespace
-
-void read_top_level_object(const Node& element, const std::vector<std::string>& material_names,
-                           std::size_t max_primitives, const std::filesystem::path& base_directory, Scene& scene) {
-    if (std::holds_alternative<MeshKind>(require_object_kind(element).shape)) {
-        if (scene.primitive_count() == max_primitives) {
-            refuse(element.path(), over_primitive_limit("the mesh", max_primitives));
-        }
-        ObjectReader(material_names, max_primitives, scene, base_directory).read_mesh(element);
-        return;
-    }
-    const std::size_t leaves_before = scene.leaf_paths.size();
-    scene.objects.push_back(ObjectReader(material_names, max_primitives, scene).read(element, 1, 0, std::nullopt));
-    const std::size_t leaves = scene.leaf_paths.size() - leaves_before;
+void require_csg_leaves_within_limit(const Node& element, std::size_t leaves) {
     if (leaves > static_cast<std::size_t>(max_csg_leaves)) {
         refuse(element.path(),
                "a CSG object may hold at most " + std::to_string(max_csg_leaves) +
                    " primitives (the SSE tracer keeps its span lists in fixed-size arrays), this one holds " +
                    std::to_string(leaves) + "; split it into several objects");
     }
+}
+
+}  // namespace
+
+const DeclaredShape& DeclaredShapes::require(const Node& name) const {
+    const std::string_view wanted = require_string(name);
+    for (const DeclaredShape& shape : list_) {
+        if (shape.name == wanted) {
+            return shape;
+        }
+    }
+    std::vector<std::string_view> names;
+    for (const DeclaredShape& shape : list_) {
+        names.push_back(shape.name);
+    }
+    refuse(name.path(), "unknown shape " + in_quotes(wanted) + "; " +
+                            (names.empty() ? "no \"shapes\" were read before \"objects\" (a scene declares its "
+                                             "shapes before its objects)"
+                                           : "shapes declared: " + join(names)));
+}
+
+void read_shapes(const std::vector<std::string>& material_names, std::size_t max_primitives,
+                 const std::filesystem::path& base_directory, Scene& scene, DeclaredShapes& out) {
+    const Node& shapes = out.node();
+    require_object(shapes);
+    JsonValue member = shapes.json().first_child();
+    for (std::size_t i = 0; i < shapes.json().size(); ++i, member = member.next_sibling()) {
+        const Node node = shapes.member(member, member.key());
+        if (member.key().empty()) {
+            refuse(node.path(), "a shape needs a name, got an empty key");
+        }
+        const ObjectKind& kind = require_object_kind(node);
+        if (std::holds_alternative<InstanceKind>(kind.shape)) {
+            refuse(node.path(), "a shape may not be an instance (instances are one level deep)");
+        }
+        DeclaredShape shape{std::string(member.key()), member, -1};
+        ObjectReader reader(material_names, max_primitives, scene, base_directory, nullptr);
+        if (std::holds_alternative<MeshKind>(kind.shape)) {
+            if (scene.primitive_count() == max_primitives) {
+                refuse(node.path(), over_primitive_limit("the mesh", max_primitives));
+            }
+            shape.mesh = static_cast<int>(scene.mesh_shapes.size());
+            scene.mesh_shapes.push_back(reader.read_mesh_shape(node, shape.name));
+        } else {
+            Scene scratch;
+            ObjectReader checker(material_names, max_primitives, scratch, base_directory, nullptr);
+            checker.read(node, 1, 0, std::nullopt);
+            require_csg_leaves_within_limit(node, scratch.leaf_paths.size());
+        }
+        out.add(std::move(shape));
+    }
+}
+
+void read_top_level_object(const Node& element, const std::vector<std::string>& material_names,
+                           std::size_t max_primitives, const std::filesystem::path& base_directory,
+                           const DeclaredShapes* shapes, Scene& scene) {
+    ObjectReader reader(material_names, max_primitives, scene, base_directory, shapes);
+    const ObjectKind& kind = require_object_kind(element);
+    if (std::holds_alternative<MeshKind>(kind.shape)) {
+        if (scene.primitive_count() == max_primitives) {
+            refuse(element.path(), over_primitive_limit("the mesh", max_primitives));
+        }
+        reader.read_mesh(element);
+        return;
+    }
+    const std::size_t leaves_before = scene.leaf_paths.size();
+    const std::size_t meshes_before = scene.meshes.size();
+    Object object = std::holds_alternative<InstanceKind>(kind.shape) ? reader.read_top_level_instance(element)
+                                                                     : reader.read(element, 1, 0, std::nullopt);
+    if (scene.meshes.size() > meshes_before) {
+        return;  // an instance of a mesh shape
+    }
+    scene.objects.push_back(std::move(object));
+    require_csg_leaves_within_limit(element, scene.leaf_paths.size() - leaves_before);
 }
 
 }  // namespace twinray::scene

@@ -2,6 +2,7 @@
 // loader.cpp calls them in the order that decides which refusal a scene with several faults gets.
 #pragma once
 
+#include "scene/json_tree.h"
 #include "scene/read_values.h"
 #include "scene/scene.h"
 
@@ -30,11 +31,47 @@ Transform read_transform(const Node& list);
 // condition number exceeds max_transform_condition.
 void require_usable(const Node& where, const Transform& to_world);
 
+// A shape of `shapes` (docs/scene-format.md, "Shapes and instances"): a mesh, read once (`mesh`: its index in
+// Scene::mesh_shapes), or any other object, kept as its JSON and read again where an instance places it (-1).
+struct DeclaredShape {
+    std::string name;
+    JsonValue json;
+    int mesh = -1;
+};
+
+// The shapes a scene declares, found by name. Holds the nodes its shapes' paths are made from: not copied or
+// moved once made.
+class DeclaredShapes {
+public:
+    DeclaredShapes(const JsonTree& tree, JsonValue shapes)
+        : root_(Node::root(tree.root())), shapes_(root_.member(shapes, "shapes")) {}
+    DeclaredShapes(const DeclaredShapes&) = delete;
+    DeclaredShapes& operator=(const DeclaredShapes&) = delete;
+
+    const Node& node() const { return shapes_; }
+    void add(DeclaredShape shape) { list_.push_back(std::move(shape)); }
+    // The shape `name` (an instance's "shape") names, or a refusal listing the declared ones.
+    const DeclaredShape& require(const Node& name) const;
+    Node node_of(const DeclaredShape& shape) const { return shapes_.member(shape.json, shape.name); }
+
+private:
+    Node root_;
+    Node shapes_;
+    std::vector<DeclaredShape> list_;
+};
+
+// Reads every shape of `shapes` into `out`: each mesh into scene.mesh_shapes, counted towards `max_primitives`; every
+// other shape read once to refuse what it holds wrong, at its own path. A shape holding an instance is refused.
+void read_shapes(const std::vector<std::string>& material_names, std::size_t max_primitives,
+                 const std::filesystem::path& base_directory, Scene& scene, DeclaredShapes& out);
+
 // Reads one element of `objects` (a primitive, or a CSG tree) into the scene: the object, and each of
 // its primitives' path and material. `material_names` as in material_names_of. Refuses the primitive that
 // would make the scene's count exceed `max_primitives`.
 // `base_directory`: where a mesh's "file" is looked for, the scene file's folder.
+// `shapes`: those its instances may place, or null where the scene declares none.
 void read_top_level_object(const Node& element, const std::vector<std::string>& material_names,
-                           std::size_t max_primitives, const std::filesystem::path& base_directory, Scene& scene);
+                           std::size_t max_primitives, const std::filesystem::path& base_directory,
+                           const DeclaredShapes* shapes, Scene& scene);
 
 }  // namespace twinray::scene

@@ -55,7 +55,10 @@ bool Scene::has_reflection() const {
 std::size_t Scene::primitive_count() const {
     std::size_t count = leaf_paths.size() - meshes.size();
     for (const Mesh& mesh : meshes) {
-        count += mesh.data->triangles.size();
+        count += mesh.placement ? 1 : mesh.data->triangles.size();
+    }
+    for (const MeshShape& shape : mesh_shapes) {
+        count += shape.data->triangles.size();
     }
     return count;
 }

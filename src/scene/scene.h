@@ -150,6 +150,19 @@ struct Mesh {
     std::shared_ptr<const MeshData> data;
     int material = 0;
     int leaf = -1;
+    // An instance's (docs/scene-format.md, "Shapes and instances"): `data` is its shape's, in the shape's own space
+    // and shared by every instance of it, and this places it in the world. Empty for a mesh written in `objects`,
+    // whose vertices are world coordinates.
+    std::optional<Transform> placement;
+    int shape = -1;  // an instance's: index into Scene::mesh_shapes
+};
+
+// A mesh declared once in `shapes` and placed by instances: its vertices in its own space. `material`: the one
+// it names, which every instance keeps; -1 where it names none, so that each instance's applies.
+struct MeshShape {
+    std::string name;
+    std::shared_ptr<const MeshData> data;
+    int material = -1;
 };
 
 struct Scene {
@@ -167,14 +180,19 @@ struct Scene {
     std::vector<std::string> material_names{"(default)"};
     std::vector<Light> lights;
     std::vector<Object> objects;
-    // The meshes among `objects`' elements, in file order; each has its leaf number like any primitive.
+    // The meshes among `objects`' elements and the instances of mesh shapes, in file order; each has its leaf
+    // number like any primitive.
     std::vector<Mesh> meshes;
+    // The mesh shapes that instances place (Mesh::shape): each counted towards the primitive limit once.
+    std::vector<MeshShape> mesh_shapes;
     // The stable id of every primitive: its index path in the file, e.g. "objects[4].children[1]".
     std::vector<std::string> leaf_paths;
 
     bool has_csg() const;
     bool has_meshes() const { return !meshes.empty(); }
-    // What the primitive limit counts: every leaf but a mesh, and each of a mesh's triangles.
+    bool has_instances() const { return !mesh_shapes.empty(); }
+    // What the primitive limit counts: every leaf but a mesh, each of a mesh's triangles, an instance of a mesh
+    // shape once, and the triangles of each mesh shape once.
     std::size_t primitive_count() const;
     bool has_transparency() const;
     bool has_reflection() const;

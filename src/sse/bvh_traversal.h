@@ -254,18 +254,68 @@ private:
     bool overflowed_ = false;
 };
 
+// Calls visit(crossing, place) for every triangle of the list some ray meets, in place order.
+template <typename P, typename Visit>
+void for_each_triangle_crossing(const TriangleList& triangles, const ShearedRays& rays, Visit&& visit) {
+    for (std::size_t i = 0; i < triangles.items.size(); ++i) {
+        TriangleHit4 crossing = triangle_crossing<P>(triangles.items[i], rays);
+        if (any(crossing.valid)) {
+            visit(crossing, static_cast<std::uint32_t>(i));
+        }
+    }
+}
+
+// The packet carried into an instance's space as transformed.h carries it, o' = L⁻¹·(o − t), d' = L⁻¹·d, but d'
+// left as it is: the triangle test takes any direction, and along o' + t·d' the object rays meet a triangle at the
+// world rays' own t, so limits and hits need no scaling.
+inline RayPacket object_rays(const InstanceRecord& instance, const RayPacket& rays) {
+    const math::Transform<float>& m = instance.to_world;
+    math::Matrix3<vfloat4> inverse;
+    for (int i = 0; i < 3; ++i) {
+        inverse.row[i] = broadcast(m.inverse.row[i]);
+    }
+    return RayPacket(inverse * (rays.origin - broadcast(m.translation)), inverse * rays.direction, rays.active);
+}
+
+// Calls visit(crossing, place) for every triangle of the instance's shape (`place` in its triangle list) that some
+// lane of `lanes` meets before its t_max, through the shape's BVH where it has one; t_max is read again at every node.
+template <typename P, typename Visit>
+void for_each_instance_crossing(const CompiledScene& scene, const InstanceRecord& instance, const RayPacket& rays,
+                                vbool4 lanes, const vfloat4& t_max, Visit&& visit) {
+    const RayPacket object = object_rays(instance, rays);
+    const ShearedRays sheared = ShearedRays::of<P>(object);
+    const CompiledShape& shape = scene.shapes[instance.shape];
+    if (shape.bvh.empty()) {
+        for_each_triangle_crossing<P>(shape.triangles, sheared, visit);
+        return;
+    }
+    for_each_leaf_met(shape.bvh, BvhRays(object), lanes, t_max, [&](BvhLeaf leaf) {
+        for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+            const std::uint32_t place = shape.bvh.items[i].index;
+            TriangleHit4 crossing = triangle_crossing<P>(shape.triangles.items[place], sheared);
+            if (any(crossing.valid)) {
+                visit(crossing, place);
+            }
+        }
+    });
+}
+
 // Calls visit(span, id, transmission, list) for every primitive of a BVH leaf that some ray of the packet meets
-// (as for_each_span) and visit_triangle(crossing, place) for every triangle (its place in scene.triangles), and
-// adds the leaf's CSG objects to `csg`. `sheared` is the packet's frame for triangles (made, and read, only where
-// the scene has some).
-template <typename P, typename Visit, typename VisitTriangle>
+// (as for_each_span), visit_triangle(crossing, place) for every triangle (its place in scene.triangles) and
+// visit_instance(index) for every instance (in scene.instances), and adds the leaf's CSG objects to `csg`.
+// `sheared` is the packet's frame for triangles (made, and read, only where the scene has some).
+template <typename P, typename Visit, typename VisitTriangle, typename VisitInstance>
 void for_each_span_in_leaf(const CompiledScene& scene, BvhLeaf leaf, const RayPacket& rays,
                            const std::optional<ShearedRays>& sheared, CsgCandidates& csg, Visit&& visit,
-                           VisitTriangle&& visit_triangle) {
+                           VisitTriangle&& visit_triangle, VisitInstance&& visit_instance) {
     for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
         const BvhItem& item = scene.bvh.items[i];
         if (item.list == csg_list) {
             csg.add(item.index);
+            continue;
+        }
+        if (item.list == instance_list) {
+            visit_instance(item.index);
             continue;
         }
         if (item.list == triangle_list) {

@@ -124,10 +124,29 @@ public:
                 unbounded.push_back(item);
             }
         }
-        const bool any_smooth = std::any_of(scene_.meshes.begin(), scene_.meshes.end(),
-                                            [](const scene::Mesh& mesh) { return mesh.data->smooth; });
-        for (std::size_t mesh = 0; mesh < scene_.meshes.size(); ++mesh) {
-            add_mesh(out, scene_.meshes[mesh], static_cast<std::uint32_t>(mesh), any_smooth, bounded);
+        const bool any_smooth = std::any_of(scene_.meshes.begin(), scene_.meshes.end(), [](const scene::Mesh& mesh) {
+            return !mesh.placement && mesh.data->smooth;
+        });
+        std::vector<double> shape_costs;
+        std::vector<scene::Bounds> shape_bounds;
+        for (const scene::MeshShape& shape : scene_.mesh_shapes) {
+            out.shapes.push_back(compile_shape(*shape.data));
+            shape_costs.push_back(shape_cost(out.shapes.back()));
+            shape_bounds.push_back(scene::vertex_bounds(*shape.data));
+        }
+        for (const scene::Mesh& mesh : scene_.meshes) {
+            if (!mesh.placement) {
+                add_mesh(out, mesh, any_smooth, bounded);
+                continue;
+            }
+            const auto shape = static_cast<std::size_t>(mesh.shape);
+            bounded.push_back({scene::placed_bounds(shape_bounds[shape], *mesh.placement),
+                               {instance_list, static_cast<std::uint32_t>(out.instances.size())}});
+            out.instances.push_back({math::Transform<float>::from(*mesh.placement),
+                                     scene::transform_norms<float>(*mesh.placement), static_cast<std::uint32_t>(shape),
+                                     mesh.leaf, math::determinant(mesh.placement->linear) < 0});
+            out.leaves[static_cast<std::size_t>(mesh.leaf)] = {InstanceSurface{}, mesh.material};
+            bounded_cost += transformed_trip_cost + shape_costs[shape];
         }
         bounded_cost += triangle_test_cost * static_cast<double>(out.triangles.items.size());
         if (accel_ == Accel::bvh || (accel_ == Accel::automatic && bounded_cost > static_cast<double>(bvh_crossover))) {
@@ -244,10 +263,11 @@ private:
 
     // Its triangles to the triangle list (and their corners, where some mesh is smooth) and, bounded, to the
     // BVH's inputs; its leaf to the mesh's surface.
-    static void add_mesh(CompiledScene& out, const scene::Mesh& mesh, std::uint32_t index, bool with_corners,
+    static void add_mesh(CompiledScene& out, const scene::Mesh& mesh, bool with_corners,
                          std::vector<BvhInput>& bounded) {
         const scene::MeshData& data = *mesh.data;
-        out.leaves[static_cast<std::size_t>(mesh.leaf)] = {MeshSurface{index}, mesh.material};
+        out.leaves[static_cast<std::size_t>(mesh.leaf)] = {MeshSurface{static_cast<std::uint32_t>(out.meshes.size())},
+                                                           mesh.material};
         CompiledMesh compiled;
         if (data.smooth) {
             for (const scene::Vec3& normal : data.normals) {
@@ -269,6 +289,48 @@ private:
                 triangles.corners.push_back(data.triangles[i]);
             }
         });
+    }
+
+    // A shape's triangles in its own space, with its own BVH where brute force would cost more (as the scene's), its
+    // records then in the order of that BVH's leaves.
+    CompiledShape compile_shape(const scene::MeshData& data) const {
+        CompiledShape shape;
+        if (data.smooth) {
+            for (const scene::Vec3& normal : data.normals) {
+                shape.mesh.normals.push_back(Vec3(normal));
+            }
+        }
+        std::vector<BvhInput> inputs;
+        TriangleList in_file_order;
+        scene::for_each_live_triangle(data, [&](std::uint32_t i) {
+            inputs.push_back({scene::bounds(data, data.triangles[i]),
+                              {triangle_list, static_cast<std::uint32_t>(in_file_order.items.size())}});
+            in_file_order.items.push_back(make_triangle(data, i, -1));
+            if (data.smooth) {
+                in_file_order.corners.push_back(data.triangles[i]);
+            }
+        });
+        const double cost = triangle_test_cost * static_cast<double>(in_file_order.items.size());
+        if (accel_ == Accel::none || (accel_ == Accel::automatic && cost <= static_cast<double>(bvh_crossover))) {
+            shape.triangles = std::move(in_file_order);
+            return shape;
+        }
+        shape.bvh = build_bvh(inputs);
+        for (BvhItem& item : shape.bvh.items) {
+            shape.triangles.items.push_back(in_file_order.items[item.index]);
+            if (data.smooth) {
+                shape.triangles.corners.push_back(in_file_order.corners[item.index]);
+            }
+            item.index = static_cast<std::uint32_t>(shape.triangles.items.size() - 1);
+        }
+        return shape;
+    }
+
+    // What brute force spends on one instance of the shape beyond the trip into its space: its triangles, or with a
+    // BVH of its own at least what brute force spends where a BVH starts to pay.
+    static double shape_cost(const CompiledShape& shape) {
+        return shape.bvh.empty() ? triangle_test_cost * static_cast<double>(shape.triangles.items.size())
+                                 : static_cast<double>(bvh_crossover);
     }
 
     float transmission_of(const scene::Object& object) const {
@@ -317,7 +379,20 @@ scene::Vec3 origin_of(const scene::Scene& scene) {
         around_world_origin = std::max(around_world_origin, scene::largest_coordinate(object));
         around_eye = std::max(around_eye, scene::largest_coordinate(seen_from_eye));
     }
+    std::vector<double> shape_extents;  // each mesh shape's largest |coordinate| in its own space
+    for (const scene::MeshShape& shape : scene.mesh_shapes) {
+        const scene::Bounds box = scene::vertex_bounds(*shape.data);
+        shape_extents.push_back(std::max(scene::largest_coordinate(box.low), scene::largest_coordinate(box.high)));
+    }
     for (const scene::Mesh& mesh : scene.meshes) {
+        if (mesh.placement) {
+            const double reach =
+                math::row_sum_norm(mesh.placement->linear) * shape_extents[static_cast<std::size_t>(mesh.shape)];
+            around_world_origin =
+                std::max(around_world_origin, scene::largest_coordinate(mesh.placement->translation) + reach);
+            around_eye = std::max(around_eye, scene::largest_coordinate(mesh.placement->translation - eye) + reach);
+            continue;
+        }
         around_world_origin = std::max(around_world_origin, scene::largest_coordinate(mesh));
         around_eye = std::max(around_eye, scene::largest_coordinate(scene::moved(mesh, 1, -eye)));
     }

@@ -106,6 +106,8 @@ constexpr std::uint32_t list_index_of() {
 constexpr std::uint32_t csg_list = scene::PrimitiveTypes::size;
 // BvhItem::list of a mesh's triangle (an index into CompiledScene::triangles).
 constexpr std::uint32_t triangle_list = csg_list + 1;
+// BvhItem::list of an instance of a mesh shape (an index into CompiledScene::instances).
+constexpr std::uint32_t instance_list = triangle_list + 1;
 
 // Every mesh's triangles that can be hit (degenerate ones are left out): without a BVH mesh after mesh in file
 // order and each mesh's in its own order; with one, in the order of its leaves (CompiledScene::primitives').
@@ -123,6 +125,25 @@ struct TriangleList {
 // What a mesh's hits need beyond the triangle: the vertex normals it shades with, if smooth.
 struct CompiledMesh {
     LargeArray<Vec3> normals;  // by vertex (TriangleList::corners); empty when flat
+};
+
+// A mesh shape (scene::MeshShape) compiled once for all its instances, in its own space: its triangles (their
+// records' leaf is -1: an instance names the hit), in the order of its own BVH's leaves where it has one, and its
+// normals, if smooth (then its triangles' corners too).
+struct CompiledShape {
+    TriangleList triangles;
+    Bvh bvh;
+    CompiledMesh mesh;
+};
+
+// An instance of a compiled shape (88 bytes): its transform, relative to the compiled scene's origin, and the
+// norms its hits' rounding bounds need (scene::transformed_spawn_offset). A walk reads L⁻¹ and t.
+struct InstanceRecord {
+    math::Transform<float> to_world;
+    scene::TransformNorms<float> norms;
+    std::uint32_t shape;  // index into CompiledScene::shapes
+    std::int32_t leaf;
+    bool mirrors;  // det L < 0: a triangle's front turns (scene.h)
 };
 
 // One list per primitive type, in the order of scene::PrimitiveTypes.
@@ -196,7 +217,9 @@ struct CsgObject {
 struct MeshSurface {
     std::uint32_t mesh;
 };
-using LeafSurface = scene::PrimitiveTypes::map<SurfaceOf>::append<MeshSurface>::apply<std::variant>;
+// An instance's leaf: the triangle and the instance come with the hit.
+struct InstanceSurface {};
+using LeafSurface = scene::PrimitiveTypes::map<SurfaceOf>::append<MeshSurface, InstanceSurface>::apply<std::variant>;
 
 struct Leaf {
     LeafSurface surface;
@@ -226,6 +249,9 @@ struct CompiledScene {
     std::vector<CsgObject> csg_objects;
     TriangleList triangles;  // found through the BVH where there is one, else each tested by every ray
     std::vector<CompiledMesh> meshes;
+    std::vector<CompiledShape> shapes;
+    // In file order; found through the BVH where there is one, else each tested by every ray after the triangles.
+    LargeArray<InstanceRecord> instances;
     // With a BVH (its nodes not empty), the bounded primitives and CSG objects are found through it and only
     // the rest (planes, unbounded CSG objects) are tested by every ray.
     Bvh bvh;

@@ -30,10 +30,11 @@ struct Nearest4 {
     vfloat4 t{infinity};
     vint4 leaf{-1};
     vint4 tag{0};
-    // A mesh's hit (else stale, unread): the triangle's place in CompiledScene::triangles, and its index in its
-    // mesh, which breaks ties within the mesh.
+    // A mesh's hit (else stale, unread): the triangle's place in CompiledScene::triangles (an instance's: in its
+    // shape's), and its index in its mesh, which breaks ties within the mesh.
     vint4 place{-1};
     vint4 triangle{-1};
+    vint4 instance{-1};  // an instance's hit: its index in CompiledScene::instances; else -1
 };
 
 // A primitive's first crossing after t = 0 is its enter if that lies ahead, else its exit. Smaller t
@@ -52,11 +53,12 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
 }
 
 // A triangle's crossing, kept as keep_nearest keeps a primitive's: smaller t wins; at equal t the smaller
-// leaf, and within one mesh the smaller triangle index.
-inline void keep_nearest_triangle(Nearest4& nearest, const TriangleHit4& crossing, const TriangleRecord& record,
-                                  std::uint32_t place) {
-    vint4 leaf(record.leaf);
-    vint4 triangle(static_cast<std::int32_t>(record.triangle));
+// leaf, and within one mesh the smaller triangle index. `instance`: the index of the instance whose shape's
+// triangle it is (its leaf `leaf_id`), or -1 for a mesh's (`leaf_id` the record's).
+inline void keep_nearest_triangle(Nearest4& nearest, const TriangleHit4& crossing, std::int32_t leaf_id,
+                                  std::uint32_t triangle_index, std::uint32_t place, std::int32_t instance) {
+    vint4 leaf(leaf_id);
+    vint4 triangle(static_cast<std::int32_t>(triangle_index));
     vbool4 same_leaf = leaf == nearest.leaf;
     vbool4 earlier_leaf = mutated<Mutant::ties_to_later_object> ? nearest.leaf < leaf : leaf < nearest.leaf;
     vbool4 earlier = earlier_leaf | (same_leaf & (triangle < nearest.triangle));
@@ -66,6 +68,7 @@ inline void keep_nearest_triangle(Nearest4& nearest, const TriangleHit4& crossin
     nearest.tag = select(nearer, select(crossing.front, vint4(tag_entering), vint4(0)), nearest.tag);
     nearest.triangle = select(nearer, triangle, nearest.triangle);
     nearest.place = select(nearer, vint4(static_cast<std::int32_t>(place)), nearest.place);
+    nearest.instance = select(nearer, vint4(instance), nearest.instance);
 }
 
 // The packet's frame for triangles, made only where the scene has some: model only what the scene requires
@@ -76,17 +79,6 @@ std::optional<ShearedRays> sheared_for(const CompiledScene& scene, const RayPack
         return std::nullopt;
     }
     return ShearedRays::of<P>(rays);
-}
-
-// Calls visit(triangle hit, place) for every triangle of the list some ray meets, in place order.
-template <typename P, typename Visit>
-void for_each_triangle_crossing(const TriangleList& triangles, const ShearedRays& rays, Visit&& visit) {
-    for (std::size_t i = 0; i < triangles.items.size(); ++i) {
-        TriangleHit4 crossing = triangle_crossing<P>(triangles.items[i], rays);
-        if (any(crossing.valid)) {
-            visit(crossing, static_cast<std::uint32_t>(i));
-        }
-    }
 }
 
 // Calls visit(span, id, transmission, list) for every primitive of every type present that some ray meets
@@ -213,7 +205,20 @@ public:
         for_each_span<P>(candidates, rays, keep);
         const std::optional<ShearedRays> sheared = sheared_for<P>(scene_, rays);
         auto keep_triangle = [&](const TriangleHit4& crossing, std::uint32_t place) {
-            keep_nearest_triangle(nearest, crossing, scene_.triangles.items[place], place);
+            const TriangleRecord& record = scene_.triangles.items[place];
+            keep_nearest_triangle(nearest, crossing, record.leaf, record.triangle, place, -1);
+        };
+        // An instance's crossings enter where the placed triangle's front faces the ray: its shape's front, unless
+        // the transform mirrors.
+        auto keep_instance = [&](std::uint32_t index) {
+            const InstanceRecord& instance = scene_.instances[index];
+            const TriangleList& triangles = scene_.shapes[instance.shape].triangles;
+            for_each_instance_crossing<P>(
+                scene_, instance, rays, rays.active, nearest.t, [&](TriangleHit4 crossing, std::uint32_t place) {
+                    crossing.front = instance.mirrors ? !crossing.front : crossing.front;
+                    keep_nearest_triangle(nearest, crossing, instance.leaf, triangles.items[place].triangle, place,
+                                          static_cast<std::int32_t>(index));
+                });
         };
         CsgCandidates csg;
         if (!scene_.bvh.empty()) {
@@ -224,10 +229,16 @@ public:
             csg.collect();
             vbool4 lanes = rays.active;
             for_each_leaf_met(scene_.bvh, BvhRays(rays), lanes, nearest.t, [&](BvhLeaf leaf) {
-                for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, keep_and_fetch, keep_triangle);
+                for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, keep_and_fetch, keep_triangle,
+                                         keep_instance);
             });
-        } else if (sheared) {
-            for_each_triangle_crossing<P>(scene_.triangles, *sheared, keep_triangle);
+        } else {
+            if (sheared) {
+                for_each_triangle_crossing<P>(scene_.triangles, *sheared, keep_triangle);
+            }
+            for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
+                keep_instance(i);
+            }
         }
         if (!scene_.csg_objects.empty()) {
             nearest_csg_crossings(rays, nearest, csg);
@@ -305,7 +316,8 @@ private:
         bool flipped = (tag & tag_flipped) != 0;
         std::visit(
             [&](const auto& surface) {
-                if constexpr (!std::is_same_v<std::decay_t<decltype(surface)>, MeshSurface>) {
+                using Surface = std::decay_t<decltype(surface)>;
+                if constexpr (!std::is_same_v<Surface, MeshSurface> && !std::is_same_v<Surface, InstanceSurface>) {
                     out.outward = outward_normal(surface, face, point, out.needs_normalizing);
                     out.anchor = surface_anchor(surface, face, flipped ? -1.0f : 1.0f, point);
                 }
@@ -358,11 +370,58 @@ private:
         return out;
     }
 
+    // An instance's hit in one lane (the triangle at `place` in its shape): triangle_surfaces' rule in object space,
+    // in scalar, carried through the transform as transformed.h's surface_anchor carries a primitive's: the normal
+    // of the side the ray met through the inverse transpose (not yet unit), the point re-projected in object space
+    // and carried back as the anchor itself (radius 0, no own rounding), the spawn offset carried through both trips
+    // (scene::transformed_spawn_offset).
+    LaneSurface instance_surface(const InstanceRecord& instance, std::uint32_t place, bool entering, Vec3 point) const {
+        const math::Transform<float>& m = instance.to_world;
+        const TriangleRecord& t = scene_.shapes[instance.shape].triangles.items[place];
+        auto length = [](Vec3 v) { return std::sqrt(math::dot(v, v)); };
+        Vec3 n = math::cross(t.b - t.a, t.c - t.a);
+        Vec3 normal = n / length(n);
+        float longest = std::max(length(t.b - t.a), std::max(length(t.c - t.b), length(t.a - t.c)));
+        math::SurfaceBounds<float> bounds = scene::surface_bounds_of_triangle(1.0f);
+        Vec3 object_point = m.point_to_object(point);
+        Vec3 anchor = object_point + math::dot(t.a - object_point, normal) * normal;
+        float own_rounding = bounds.own_rounding.size * longest +
+                             bounds.own_rounding.point_factor * math::max_abs_component(object_point);
+        Vec3 projected = std::fabs(math::dot(normal, object_point - anchor)) > own_rounding ? anchor : object_point;
+        Vec3 world = projected == object_point ? point : m.point_to_world(projected);
+        float extent = math::max_abs_component(projected);
+        float object_offset = bounds.spawn_offset.size * longest + bounds.spawn_offset.point_factor * extent;
+        LaneSurface out;
+        bool front = entering != instance.mirrors;
+        out.outward = m.normal_to_world(front ? normal : -normal);
+        out.needs_normalizing = true;
+        out.anchor = {
+            world,
+            0.0f,
+            0.0f,
+            {scene::transformed_spawn_offset(instance.norms, object_offset, extent, math::max_abs_component(world)),
+             0.0f}};
+        return out;
+    }
+
+    // reference/triangle.h's shading_normal for an instance: the shape's at the point's object-space image, through
+    // the inverse transpose, unit, and turned to `facing` in the world.
+    Vec3 smooth_normal(const InstanceRecord& instance, std::uint32_t place, Vec3 point, Vec3 facing) const {
+        const math::Transform<float>& m = instance.to_world;
+        const CompiledShape& shape = scene_.shapes[instance.shape];
+        const TriangleRecord& t = shape.triangles.items[place];
+        Vec3 object_front = math::normalize(math::cross(t.b - t.a, t.c - t.a));
+        Vec3 unit = math::normalize(m.normal_to_world(
+            smooth_normal(shape.mesh, shape.triangles, place, m.point_to_object(point), object_front)));
+        return math::dot(unit, facing) < 0.0f ? -unit : unit;
+    }
+
     // reference/triangle.h's shading_normal, in float: the vertex normals weighted by the sub-triangles' areas
-    // at `point`, turned to `facing`; `facing` where they cancel.
-    Vec3 smooth_normal(const CompiledMesh& mesh, std::uint32_t place, Vec3 point, Vec3 facing) const {
-        const TriangleRecord& t = scene_.triangles.items[place];
-        const std::array<std::uint32_t, 3>& corners = scene_.triangles.corners[place];
+    // at `point`, turned to `facing`; `facing` where they cancel. The triangle at `place` in `triangles`.
+    static Vec3 smooth_normal(const CompiledMesh& mesh, const TriangleList& triangles, std::uint32_t place, Vec3 point,
+                              Vec3 facing) {
+        const TriangleRecord& t = triangles.items[place];
+        const std::array<std::uint32_t, 3>& corners = triangles.corners[place];
         Vec3 n = math::cross(t.b - t.a, t.c - t.a);
         float area = math::dot(n, n);
         float weight_a = math::dot(n, math::cross(t.c - t.b, point - t.b)) / area;
@@ -398,8 +457,12 @@ private:
         nearest.leaf.store(leaf);
         nearest.tag.store(tag);
         nearest.place.store(place);
+        alignas(16) std::int32_t instance[4];
+        nearest.instance.store(instance);
+        const int entering_lanes = movemask(hit.entering);
         int lanes = movemask(hit.hit);
         const CompiledMesh* smooth[4] = {};
+        const InstanceRecord* smooth_instance[4] = {};
         int triangle_lanes = 0;
         for (int lane = 0; lane < 4; ++lane) {
             LaneSurface surface;
@@ -412,6 +475,13 @@ private:
                         scene_.triangles.items[static_cast<std::size_t>(place[lane])].triangle);
                     const CompiledMesh& compiled = scene_.meshes[mesh->mesh];
                     smooth[lane] = compiled.normals.empty() ? nullptr : &compiled;
+                } else if (std::holds_alternative<InstanceSurface>(info.surface)) {
+                    const InstanceRecord& record = scene_.instances[static_cast<std::size_t>(instance[lane])];
+                    const auto at = static_cast<std::uint32_t>(place[lane]);
+                    const CompiledShape& shape = scene_.shapes[record.shape];
+                    triangle[lane] = static_cast<std::int32_t>(shape.triangles.items[at].triangle);
+                    surface = instance_surface(record, at, ((entering_lanes >> lane) & 1) != 0, lane_point);
+                    smooth_instance[lane] = shape.mesh.normals.empty() ? nullptr : &record;
                 } else {
                     surface = lane_surface(info, tag[lane], lane_point);
                 }
@@ -462,20 +532,26 @@ private:
         hit.normal = select(mutated<Mutant::normal_faces_away> ? !facing_away : facing_away, -outward, outward);
         hit.triangle = vint4::load(triangle);
         hit.shading_normal = hit.normal;
-        if (smooth[0] != nullptr || smooth[1] != nullptr || smooth[2] != nullptr || smooth[3] != nullptr) {
+        if (smooth[0] != nullptr || smooth[1] != nullptr || smooth[2] != nullptr || smooth[3] != nullptr ||
+            smooth_instance[0] != nullptr || smooth_instance[1] != nullptr || smooth_instance[2] != nullptr ||
+            smooth_instance[3] != nullptr) {
             alignas(16) float shading[3][4];
             for (int axis = 0; axis < 3; ++axis) {
                 hit.normal[axis].store(shading[axis]);
                 hit.point[axis].store(point[axis]);
             }
             for (int lane = 0; lane < 4; ++lane) {
-                if (smooth[lane] != nullptr) {
-                    Vec3 turned = smooth_normal(*smooth[lane], static_cast<std::uint32_t>(place[lane]),
-                                                {point[0][lane], point[1][lane], point[2][lane]},
-                                                {shading[0][lane], shading[1][lane], shading[2][lane]});
-                    for (int axis = 0; axis < 3; ++axis) {
-                        shading[axis][lane] = turned[axis];
-                    }
+                if (smooth[lane] == nullptr && smooth_instance[lane] == nullptr) {
+                    continue;
+                }
+                const auto at = static_cast<std::uint32_t>(place[lane]);
+                const Vec3 lane_point{point[0][lane], point[1][lane], point[2][lane]};
+                const Vec3 facing{shading[0][lane], shading[1][lane], shading[2][lane]};
+                Vec3 turned = smooth[lane] != nullptr
+                                  ? smooth_normal(*smooth[lane], scene_.triangles, at, lane_point, facing)
+                                  : smooth_normal(*smooth_instance[lane], at, lane_point, facing);
+                for (int axis = 0; axis < 3; ++axis) {
+                    shading[axis][lane] = turned[axis];
                 }
             }
             hit.shading_normal = {vfloat4::load(shading[0]), vfloat4::load(shading[1]), vfloat4::load(shading[2])};

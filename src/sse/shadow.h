@@ -121,14 +121,25 @@ public:
             auto block_triangle = [&](const TriangleHit4& crossing, std::uint32_t) {
                 open = open & !triangle_between(crossing);
             };
+            auto block_instance = [&](std::uint32_t index) {
+                if (any(open)) {
+                    for_each_instance_crossing<P>(scene_, scene_.instances[index], rays, open, distance,
+                                                  block_triangle);
+                }
+            };
             for_each_span<P>(scene_.flat(), rays, block);
             if (!scene_.bvh.empty() && any(open)) {
                 csg.collect();
                 for_each_leaf_met(scene_.bvh, BvhRays(rays), open, distance, [&](BvhLeaf leaf) {
-                    for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle);
+                    for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle, block_instance);
                 });
-            } else if (scene_.bvh.empty() && sheared && any(open)) {
-                for_each_triangle_crossing<P>(scene_.triangles, *sheared, block_triangle);
+            } else if (scene_.bvh.empty()) {
+                if (sheared && any(open)) {
+                    for_each_triangle_crossing<P>(scene_.triangles, *sheared, block_triangle);
+                }
+                for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
+                    block_instance(i);
+                }
             }
         } else {
             auto multiply = [&](vbool4 enter_between, vbool4 exit_between, float transmission) {
@@ -153,11 +164,23 @@ public:
                         factors.add({triangle_list, leaf, between, none_true(), material_transmission(leaf)});
                     }
                 };
+                auto record_instance = [&](std::uint32_t index) {
+                    const std::int32_t leaf = scene_.instances[index].leaf;
+                    for_each_instance_crossing<P>(
+                        scene_, scene_.instances[index], rays, lanes, distance,
+                        [&](const TriangleHit4& crossing, std::uint32_t) {
+                            vbool4 between = triangle_between(crossing);
+                            if (any(between)) {
+                                factors.add({instance_list, leaf, between, none_true(), material_transmission(leaf)});
+                            }
+                        });
+                };
                 for_each_span<P>(scene_.flat(), rays, record);
                 csg.collect();
                 vbool4 all_lanes = lanes;
                 for_each_leaf_met(scene_.bvh, BvhRays(rays), all_lanes, distance, [&](BvhLeaf leaf) {
-                    for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, record, record_triangle);
+                    for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, record, record_triangle,
+                                             record_instance);
                 });
                 if (!factors.overflowed()) {
                     factors.for_each_in_list_order([&](const TransmissionFactors::Factor& factor) {
@@ -181,6 +204,13 @@ public:
                             multiply(triangle_between(crossing), none_true(),
                                      material_transmission(scene_.triangles.items[place].leaf));
                         });
+                }
+                for (const InstanceRecord& instance : scene_.instances) {
+                    const float transmission = material_transmission(instance.leaf);
+                    for_each_instance_crossing<P>(scene_, instance, rays, lanes, distance,
+                                                  [&](const TriangleHit4& crossing, std::uint32_t) {
+                                                      multiply(triangle_between(crossing), none_true(), transmission);
+                                                  });
                 }
             }
             open = open & (transmittance > zero);

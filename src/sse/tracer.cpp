@@ -190,21 +190,28 @@ int Tracer::mesh_crossings(const Ray& world_ray, float distance) const {
         RayPacket rays = single_ray_packet(ray);
         const std::optional<ShearedRays> sheared = sheared_for<P>(scene, rays);
         int count = 0;
-        if (!sheared) {
-            return count;
-        }
         auto count_lane_0 = [&](const TriangleHit4& crossing, std::uint32_t) {
             count += (movemask(crossing.valid & (crossing.t < vfloat4(distance))) & 1);
         };
+        auto count_instance = [&](std::uint32_t index) {
+            for_each_instance_crossing<P>(scene, scene.instances[index], rays, rays.active, vfloat4(distance),
+                                          count_lane_0);
+        };
         if (scene.bvh.empty()) {
-            for_each_triangle_crossing<P>(scene.triangles, *sheared, count_lane_0);
+            if (sheared) {
+                for_each_triangle_crossing<P>(scene.triangles, *sheared, count_lane_0);
+            }
+            for (std::uint32_t i = 0; i < scene.instances.size(); ++i) {
+                count_instance(i);
+            }
             return count;
         }
         CsgCandidates csg;
         vbool4 lanes = rays.active;
         for_each_leaf_met(scene.bvh, BvhRays(rays), lanes, vfloat4(distance), [&](BvhLeaf leaf) {
             for_each_span_in_leaf<P>(
-                scene, leaf, rays, sheared, csg, [](const Span4&, std::int32_t, float, std::uint32_t) {}, count_lane_0);
+                scene, leaf, rays, sheared, csg, [](const Span4&, std::int32_t, float, std::uint32_t) {}, count_lane_0,
+                count_instance);
         });
         return count;
     });

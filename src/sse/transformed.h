@@ -15,11 +15,13 @@
 
 namespace twinray::sse {
 
+// The trip of a packet into object space costs 1.7 spheres' worth (relative_test_cost).
+constexpr double transformed_trip_cost = 1.7;
+
 // L⁻¹ and t broadcast (see SphereShape): 192 bytes beside the primitive's own record.
 template <typename Inner>
 struct TransformedShape {
-    // The trip into object space costs 1.7 spheres' worth more than the primitive (relative_test_cost).
-    static constexpr double test_cost = relative_test_cost<Inner> + 1.7;
+    static constexpr double test_cost = relative_test_cost<Inner> + transformed_trip_cost;
     Inner inner;
     math::Matrix3<vfloat4> inverse;
     Vec3x4 translation;

@@ -19,5 +19,6 @@ GeneratedScene write_sombrero(int size, std::uint64_t seed, const SceneSink& sin
 GeneratedScene write_triangle_soup(int size, std::uint64_t seed, const SceneSink& sink);
 GeneratedScene write_mount(int size, std::uint64_t seed, const SceneSink& sink);
 GeneratedScene write_gears(int size, std::uint64_t seed, const SceneSink& sink);
+GeneratedScene write_forest(int size, std::uint64_t seed, const SceneSink& sink);
 
 }  // namespace twinray::cli::generate

@@ -155,7 +155,13 @@ void SceneTextWriter::begin(const scene::Scene& header) {
         vector(header.lights[i].color);
         text_ += '}';
     }
-    text_ += "\n  ],\n  \"objects\": [";
+    text_ += "\n  ]";
+    section_ = Section::header;
+}
+
+void SceneTextWriter::open_objects() {
+    text_ += section_ == Section::shapes ? "\n  },\n  \"objects\": [" : ",\n  \"objects\": [";
+    section_ = Section::objects;
     list_has_elements_ = {false};
 }
 
@@ -163,12 +169,18 @@ void SceneTextWriter::end() {
     if (list_has_elements_.size() != 1) {
         throw std::logic_error("SceneTextWriter::end with a CSG node still open");
     }
+    if (section_ != Section::objects) {
+        open_objects();
+    }
     text_ += list_has_elements_.back() ? "\n  ]\n}\n" : "]\n}\n";
     sink_.text(text_);
     text_.clear();
 }
 
 void SceneTextWriter::begin_object(std::string_view type) {
+    if (section_ != Section::objects) {
+        open_objects();
+    }
     const bool top_level = list_has_elements_.size() == 1;
     if (list_has_elements_.back()) {
         text_ += top_level ? ",\n    " : ", ";
@@ -176,6 +188,10 @@ void SceneTextWriter::begin_object(std::string_view type) {
         text_ += "\n    ";
     }
     list_has_elements_.back() = true;
+    open_object(type);
+}
+
+void SceneTextWriter::open_object(std::string_view type) {
     text_ += "{\"type\": \"";
     text_ += type;
     text_ += '"';
@@ -265,15 +281,45 @@ void SceneTextWriter::end_mesh_list(std::int64_t count) {
 }
 
 void SceneTextWriter::mesh(const MeshLists& lists, int material) {
-    if (list_has_elements_.size() != 1) {
+    if (section_ == Section::objects && list_has_elements_.size() != 1) {
         throw std::logic_error("SceneTextWriter::mesh inside a CSG node");
     }
+    begin_object("mesh");
+    ++primitives_;
+    mesh_object(lists, material);
+}
+
+void SceneTextWriter::shape_mesh(std::string_view name, const MeshLists& lists, int material) {
+    if (section_ == Section::objects) {
+        throw std::logic_error("SceneTextWriter::shape_mesh after the first object");
+    }
+    text_ += section_ == Section::header ? ",\n  \"shapes\": {\n    " : ",\n    ";
+    section_ = Section::shapes;
+    text_ += json_string(name) + ": ";
+    open_object("mesh");
+    mesh_object(lists, material);
+}
+
+void SceneTextWriter::instance(std::string_view shape, const Placement& placement, int material) {
+    begin_object("instance");
+    text_ += ", \"shape\": " + json_string(shape) + ", \"transform\": [{\"rotate\": ";
+    vector({0, placement.turn_deg, 0});
+    text_ += "}, {\"scale\": ";
+    number(placement.scale);
+    text_ += "}, {\"translate\": ";
+    vector(placement.position);
+    text_ += "}]";
+    ++primitives_;
+    end_object(material);
+}
+
+// After the object's "type": its lists, inline or in a file of their own, and its material.
+void SceneTextWriter::mesh_object(const MeshLists& lists, int material) {
     if (sink_.mesh_file) {
         mesh_file(lists);
         end_object(material);
         return;
     }
-    begin_object("mesh");
     std::int64_t vertices = 0;
     begin_mesh_list("vertices");
     lists.vertices([&](Vec3 vertex) {
@@ -306,7 +352,6 @@ void SceneTextWriter::mesh(const MeshLists& lists, int material) {
         check_normal_count(normals, vertices);
         text_ += ", \"smooth\": true";
     }
-    ++primitives_;
     triangles_ += triangles;
     end_object(material);
 }
@@ -338,12 +383,10 @@ void SceneTextWriter::mesh_file(const MeshLists& lists) {
         };
     }
     std::string name = sink_.mesh_file(on_grid_lists, counts);
-    begin_object("mesh");
     text_ += ", \"file\": " + json_string(name);
     if (lists.normals) {
         text_ += ", \"smooth\": true";
     }
-    ++primitives_;
     triangles_ += counts.triangles;
 }
 

@@ -55,8 +55,9 @@ public:
     // smallest feature spans a thousand steps or more.
     SceneTextWriter(SceneSink sink, int decimals);
 
-    // Everything but the objects, from `header`: image, camera, background, ambient light, depth, its
-    // named materials (not the built-in default, materials[0]) and lights. Opens the objects list.
+    // Everything but the shapes and the objects, from `header`: image, camera, background, ambient light, depth,
+    // its named materials (not the built-in default, materials[0]) and lights. The shapes follow (shape_mesh), then
+    // the objects, whose list the first object opens.
     void begin(const scene::Scene& header);
     // Closes the objects list and the document, and hands the rest of the text to the sink.
     void end();
@@ -70,6 +71,17 @@ public:
     // `"file"` (SceneSink::mesh_file) with the same doubles. Normals are put on the coordinates' grid too, so
     // their lengths are within a grid step of 1.
     void mesh(const MeshLists& lists, int material);
+    // A mesh shape named `name` for instances to place, its `material` (0: none, each instance's applies); before
+    // the first object. Its triangles count once, and it is no primitive of its own.
+    void shape_mesh(std::string_view name, const MeshLists& lists, int material);
+    // Where an instance stands: turned about the vertical axis, scaled evenly, then moved.
+    struct Placement {
+        double turn_deg;
+        double scale;
+        Vec3 position;
+    };
+    // One leaf, at the top level: shape `shape` placed.
+    void instance(std::string_view shape, const Placement& placement, int material);
     // A union, intersection or difference: its children are the objects written until end_csg().
     void begin_csg(std::string_view operation, int material);
     void end_csg();
@@ -79,7 +91,12 @@ public:
     std::int64_t triangles() const { return triangles_; }
 
 private:
+    enum class Section { header, shapes, objects };
+
+    void open_objects();
     void begin_object(std::string_view type);
+    void open_object(std::string_view type);
+    void mesh_object(const MeshLists& lists, int material);
     void material_key(int material);
     void end_object(int material);
     void flush_if_full();
@@ -102,6 +119,7 @@ private:
     // One entry per open list of objects (the top level, then each open CSG node's children): whether
     // an element has been written to it, so the next one starts with a comma.
     std::vector<bool> list_has_elements_;
+    Section section_ = Section::header;
     std::int64_t primitives_ = 0;
     std::int64_t triangles_ = 0;
 };
