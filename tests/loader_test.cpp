@@ -207,6 +207,17 @@ const std::vector<Malformed> malformed_scenes = {
     {"transform_overflows.json", "objects[0].transform", "overflow double"},
     {"transform_csg_composed_badly_conditioned.json", "objects[0].children[0].transform", "too badly conditioned"},
     {"transform_mesh_singular.json", "objects[0].transform[0].matrix", "the matrix is singular"},
+    // Shapes and instances.
+    {"shapes_not_object.json", "shapes", "expected an object, got an array"},
+    {"instance_unknown_shape.json", "objects[0].shape", "unknown shape \"bal\"; shapes declared: ball"},
+    {"instance_without_shapes.json", "objects[0].shape", "no \"shapes\" were read before \"objects\""},
+    {"instance_shapes_after_objects.json", "objects[0].shape", "a scene declares its shapes before its objects"},
+    {"instance_shape_not_string.json", "objects[0].shape", "expected a string"},
+    {"instance_in_shape.json", "shapes.pair.children[0]", "a shape may not hold an instance"},
+    {"instance_as_shape.json", "shapes.again", "a shape may not be an instance"},
+    {"instance_of_mesh_in_csg.json", "objects[0].children[0]", "may not be a CSG child"},
+    {"instance_badly_conditioned.json", "objects[0].transform", "too badly conditioned"},
+    {"instance_shape_bad_primitive.json", "shapes.ball.radius", "must be > 0"},
 };
 
 class MalformedScene : public ::testing::TestWithParam<Malformed> {};

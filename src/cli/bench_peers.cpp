@@ -3,6 +3,7 @@
 #include "cli/tracers.h"
 #include "pov/exporter.h"
 #include "pov/povray_runner.h"
+#include "scene/placement.h"
 #include "sse/tracer.h"
 #if TWINRAY_WITH_EMBREE
 #include "peers/embree_peer.h"
@@ -90,8 +91,10 @@ void bench_povray(const std::string& name, const scene::Scene& scene, const Benc
                            cell("%.1f", (one - start_up) / sse_seconds[0])});
 }
 
-void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Accel accel,
-                      Report& report) {
+namespace {
+
+void bench_first_hits_of(const std::string& name, const scene::Scene& scene, int width, int runs, Accel accel,
+                         Report& report) {
     RenderOptions options;
     options.width = width;
     options.threads = 1;
@@ -155,6 +158,22 @@ void bench_first_hits(const std::string& name, const scene::Scene& scene, int wi
     left_out("not built");
 #endif
     report.first_hit.add_row(row);
+}
+
+}  // namespace
+
+// A scene of instances is timed beside itself flattened (each instance's triangles written out in world
+// coordinates), where that fits the primitive limit: what instancing costs per ray.
+void bench_first_hits(const std::string& name, const scene::Scene& scene, int width, int runs, Accel accel,
+                      Report& report) {
+    bench_first_hits_of(name, scene, width, runs, accel, report);
+    if (!scene.has_instances()) {
+        return;
+    }
+    scene::Scene flat = scene::flattened(scene);
+    if (flat.primitive_count() <= scene::max_scene_primitives) {
+        bench_first_hits_of(name + " flattened", flat, width, runs, accel, report);
+    }
 }
 
 }  // namespace twinray::cli::bench

@@ -51,21 +51,20 @@ std::string object_name(const scene::Scene& scene, int leaf) {
     if (leaf < 0 || static_cast<std::size_t>(leaf) >= scene.leaf_paths.size()) {
         return "leaf " + std::to_string(leaf) + " (unknown)";
     }
-    return scene.leaf_paths[static_cast<std::size_t>(leaf)];
+    return scene.leaf_name(leaf);
 }
 
 std::optional<std::array<double, 3>> barycentrics(const scene::Scene& scene, const RayNode& node) {
     if (!node.hit || node.triangle < 0) {
         return std::nullopt;
     }
-    for (const scene::Mesh& mesh : scene.meshes) {
-        if (mesh.leaf == node.leaf) {
-            // An instance's triangle is its shape's, in the shape's own space.
-            const scene::Vec3 point = mesh.placement ? mesh.placement->point_to_object(node.point) : node.point;
-            return scene::barycentrics(*mesh.data, static_cast<std::uint32_t>(node.triangle), point);
-        }
+    const scene::Mesh* mesh = scene.mesh_of_leaf(node.leaf);
+    if (mesh == nullptr) {
+        return std::nullopt;
     }
-    return std::nullopt;
+    // An instance's triangle is its shape's, in the shape's own space.
+    const scene::Vec3 point = mesh->placement ? mesh->placement->point_to_object(node.point) : node.point;
+    return scene::barycentrics(*mesh->data, static_cast<std::uint32_t>(node.triangle), point);
 }
 
 std::string material_name(const scene::Scene& scene, int leaf) {

@@ -309,7 +309,7 @@ private:
                      materials_.at(material).transmit != m.transmission};
         }
         auto write = [&](Pass pass, const std::vector<std::string>& modifiers) {
-            line(0, "// " + scene_.leaf_paths.at(static_cast<std::size_t>(mesh.leaf)));
+            line(0, "// " + scene_.leaf_name(mesh.leaf));
             if (mesh.placement) {
                 line(0, "object {");
                 line(1, shape_identifier(static_cast<std::size_t>(mesh.shape)));

@@ -41,6 +41,8 @@ void ask_huge_pages(const std::vector<T>& array) {
 
 // The fewest bytes a primitive takes in a scene file ({"type":"box","min":[0,0,0],"max":[1,1,1]}).
 constexpr std::size_t smallest_primitive_text = 40;
+// And an instance ({"type":"instance","shape":"s"}).
+constexpr std::size_t smallest_instance_text = 32;
 
 class SceneReader final : public ObjectsReader {
 public:
@@ -51,6 +53,7 @@ public:
     SceneReader(const JsonTree& tree, std::size_t text_bytes, std::size_t max_primitives,
                 std::filesystem::path base_directory)
         : tree_(tree),
+          text_bytes_(text_bytes),
           max_primitives_(std::min(max_primitives, max_scene_primitives)),
           base_directory_(std::move(base_directory)) {
         const std::size_t most_primitives = std::min(text_bytes / smallest_primitive_text, max_primitives_);
@@ -89,8 +92,8 @@ public:
         try {
             const Node root = Node::root(tree_.root());
             const Node objects = root.member(array, "objects");
-            read_top_level_object(objects.element(value, index), material_names_, max_primitives_, base_directory_,
-                                  shapes_.get(), scene_);
+            read_top_level_object(objects.element(value, index), material_names_, max_primitives_, primitives_,
+                                  base_directory_, shapes_.get(), scene_);
         } catch (const Refusal& refusal) {
             first_refusal_ = refusal;
         }
@@ -131,24 +134,31 @@ private:
             return;
         }
         for (const Node& element : require_array(objects, "an array of objects")) {
-            read_top_level_object(element, scene_.material_names, max_primitives_, base_directory_, shapes_.get(),
-                                  scene_);
+            read_top_level_object(element, scene_.material_names, max_primitives_, primitives_, base_directory_,
+                                  shapes_.get(), scene_);
         }
     }
 
     void read_shapes_if_any(const JsonValue& root, const std::vector<std::string>& material_names) {
         if (const std::optional<JsonValue> shapes = root.find("shapes")) {
             shapes_ = std::make_unique<DeclaredShapes>(tree_, *shapes);
-            read_shapes(material_names, max_primitives_, base_directory_, scene_, *shapes_);
+            read_shapes(material_names, max_primitives_, primitives_, base_directory_, scene_, *shapes_);
+            if (!scene_.mesh_shapes.empty()) {
+                // Every instance of a mesh shape is a mesh: reserved as the primitives are, not grown.
+                scene_.meshes.reserve(std::min(text_bytes_ / smallest_instance_text, max_primitives_));
+                ask_huge_pages(scene_.meshes);
+            }
         }
     }
 
     const JsonTree& tree_;
+    const std::size_t text_bytes_;
     const std::size_t max_primitives_;
     const std::filesystem::path base_directory_;
     Scene scene_;
     std::vector<std::string> material_names_;
     std::unique_ptr<DeclaredShapes> shapes_;  // none where the scene declares no shapes
+    std::size_t primitives_ = 0;              // Scene::primitive_count of what has been read
     bool streamed_ = false;
     std::optional<Refusal> first_refusal_;
 };

@@ -1,5 +1,7 @@
 #include "scene/placement.h"
 
+#include "scene/geometry.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -222,6 +224,21 @@ void place(MeshData& mesh, const Transform& to_world) {
     for (Vec3& normal : mesh.normals) {
         normal = math::normalize(to_world.normal_to_world(normal));
     }
+}
+
+Scene flattened(const Scene& scene) {
+    Scene out = scene;
+    for (Mesh& mesh : out.meshes) {
+        if (!mesh.placement) {
+            continue;
+        }
+        auto data = std::make_shared<MeshData>(*mesh.data);
+        place(*data, *mesh.placement);
+        data->degenerate = degenerate_triangles(*data);
+        mesh = Mesh{std::move(data), mesh.material, mesh.leaf, std::nullopt, -1};
+    }
+    out.mesh_shapes.clear();
+    return out;
 }
 
 }  // namespace twinray::scene

@@ -33,5 +33,8 @@ Shape placed(const Shape& primitive, const Transform& to_world);
 // Vertices and vertex normals (through the inverse transpose) placed in the world. Under a mirroring transform
 // (negative determinant) each triangle's counter-clockwise side, its front, turns with them.
 void place(MeshData& mesh, const Transform& to_world);
+// The scene with every instance of a mesh shape replaced by the shape's mesh placed in world coordinates (its leaf,
+// path and material kept): what the instancing benchmark measures instances against.
+Scene flattened(const Scene& scene);
 
 }  // namespace twinray::scene

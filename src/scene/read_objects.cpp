@@ -262,28 +262,40 @@ MeshFileResult read_mesh_from_file(const Node& node, const Node& file, const std
     }
 }
 
-// Degenerate triangles listed, and the shading normals `smooth` asks for: absent, interpolated where the
-// mesh has normals; true without normals, area-weighted vertex normals; false, flat whatever it has.
-void finish_mesh(const Node& node, MeshData& mesh) {
+// The shading normals `smooth` asks for: absent, interpolated where the mesh has normals; true without normals,
+// area-weighted vertex normals; false, flat whatever it has. In the mesh's own space, before its transform, so
+// that they go through the inverse transpose as given normals do, and as an instance's shape's do.
+void shade_mesh(const Node& node, MeshData& mesh) {
     mesh.smooth = read_or(node, "smooth", !mesh.normals.empty(), require_boolean);
-    mesh.degenerate = degenerate_triangles(mesh);
     if (mesh.smooth && mesh.normals.empty()) {
         mesh.normals = area_weighted_normals(mesh);
     }
 }
 
+[[noreturn]] void refuse_unknown_shape(const Node& name, const std::vector<std::string_view>& declared) {
+    refuse(name.path(), "unknown shape " + describe(name.json()) + "; " +
+                            (declared.empty() ? "no \"shapes\" were read before \"objects\" (a scene declares its "
+                                                "shapes before its objects)"
+                                              : "shapes declared: " + join(declared)));
+}
+
 // Reads the objects of one top-level element; `names` are the material names objects may use.
 class ObjectReader {
 public:
-    // `shapes`: those an instance may place, or null while the shapes themselves are read (a shape may not hold an
-    // instance).
-    ObjectReader(const std::vector<std::string>& names, std::size_t max_primitives, Scene& scene,
-                 std::filesystem::path base_directory, const DeclaredShapes* shapes)
+    // `shapes`: those an instance may place, or null where the scene declares none. `reading_shapes`: the objects
+    // read are shapes, which may not hold an instance.
+    // `primitives`: what the primitive limit has counted so far (Scene::primitive_count, kept as it grows: a scene
+    // of a million instances would recount them all at each).
+    ObjectReader(const std::vector<std::string>& names, std::size_t max_primitives, std::size_t& primitives,
+                 Scene& scene, std::filesystem::path base_directory, const DeclaredShapes* shapes,
+                 bool reading_shapes = false)
         : names_(names),
           max_primitives_(max_primitives),
+          primitives_(primitives),
           scene_(scene),
           base_directory_(std::move(base_directory)),
-          shapes_(shapes) {}
+          shapes_(shapes),
+          reading_shapes_(reading_shapes) {}
 
     // `level` bounds the recursion (max_object_nesting); `inherited_material` is that of the nearest
     // ancestor naming one, else the default; `placement` the CSG ancestors' transforms composed, if any.
@@ -312,11 +324,12 @@ public:
             }
             return read_instanced(node, shape, level, material, to_world);
         }
-        if (scene_.primitive_count() == max_primitives_) {
+        if (primitives_ == max_primitives_) {
             refuse(node.path(),
                    over_primitive_limit("primitive number " + std::to_string(max_primitives_ + 1) + " of the scene",
                                         max_primitives_));
         }
+        ++primitives_;
         Shape shape = std::get<Shape (*)(const Node&)>(kind.shape)(node);
         if (to_world) {
             shape = placed(shape, *to_world);
@@ -338,13 +351,14 @@ public:
         if (shape.mesh < 0) {
             return read_instanced(node, shape, 1, material, to_world);
         }
-        if (scene_.primitive_count() == max_primitives_) {
+        if (primitives_ == max_primitives_) {
             refuse(node.path(), over_primitive_limit("the instance", max_primitives_));
         }
+        ++primitives_;
         const MeshShape& mesh = scene_.mesh_shapes[static_cast<std::size_t>(shape.mesh)];
         const int leaf = static_cast<int>(scene_.leaf_paths.size());
         const int own_material = mesh.material >= 0 ? mesh.material : material;
-        scene_.leaf_paths.push_back(node.path() + " (" + key_path("shapes", shape.name) + ")");
+        scene_.leaf_paths.push_back(node.path());
         scene_.leaf_materials.push_back(own_material);
         scene_.meshes.push_back(
             Mesh{mesh.data, own_material, leaf, to_world ? *to_world : identity_transform(), shape.mesh});
@@ -374,7 +388,7 @@ public:
 private:
     // A mesh's vertices (placed by its own transform), triangles and normals, inline or from its file.
     std::shared_ptr<const MeshData> read_mesh_data(const Node& node) {
-        const std::size_t triangles_allowed = max_primitives_ - scene_.primitive_count();
+        const std::size_t triangles_allowed = max_primitives_ - primitives_;
         auto data = std::make_shared<MeshData>();
         if (const std::optional<Node> file = find_key(node, "file")) {
             MeshFileResult read = read_mesh_from_file(node, *file, base_directory_, triangles_allowed);
@@ -385,17 +399,22 @@ private:
         } else {
             *data = read_inline_mesh(node, triangles_allowed);
         }
+        shade_mesh(node, *data);
         if (const std::optional<Transform> to_world = placed_by(node, std::nullopt)) {
             place(*data, *to_world);
         }
-        finish_mesh(node, *data);
+        data->degenerate = degenerate_triangles(*data);
+        primitives_ += data->triangles.size();
         return data;
     }
 
     const DeclaredShape& require_shape(const Node& instance) const {
+        if (reading_shapes_) {
+            refuse(instance.path(), "a shape may not hold an instance (instances are one level deep)");
+        }
         const Node name = at(instance, "shape");
         if (shapes_ == nullptr) {
-            refuse(instance.path(), "a shape may not hold an instance (instances are one level deep)");
+            refuse_unknown_shape(name, {});
         }
         return shapes_->require(name);
     }
@@ -449,9 +468,11 @@ private:
 
     const std::vector<std::string>& names_;
     const std::size_t max_primitives_;
+    std::size_t& primitives_;
     Scene& scene_;
     const std::filesystem::path base_directory_;  // where a mesh's file is looked for
     const DeclaredShapes* shapes_;
+    const bool reading_shapes_;
     std::string instance_path_;  // while a shape is read for an instance: the instance's path
 };
 
@@ -468,22 +489,17 @@ void require_csg_leaves_within_limit(const Node& element, std::size_t leaves) {
 
 const DeclaredShape& DeclaredShapes::require(const Node& name) const {
     const std::string_view wanted = require_string(name);
+    std::vector<std::string_view> names;
     for (const DeclaredShape& shape : list_) {
         if (shape.name == wanted) {
             return shape;
         }
-    }
-    std::vector<std::string_view> names;
-    for (const DeclaredShape& shape : list_) {
         names.push_back(shape.name);
     }
-    refuse(name.path(), "unknown shape " + in_quotes(wanted) + "; " +
-                            (names.empty() ? "no \"shapes\" were read before \"objects\" (a scene declares its "
-                                             "shapes before its objects)"
-                                           : "shapes declared: " + join(names)));
+    refuse_unknown_shape(name, names);
 }
 
-void read_shapes(const std::vector<std::string>& material_names, std::size_t max_primitives,
+void read_shapes(const std::vector<std::string>& material_names, std::size_t max_primitives, std::size_t& primitives,
                  const std::filesystem::path& base_directory, Scene& scene, DeclaredShapes& out) {
     const Node& shapes = out.node();
     require_object(shapes);
@@ -498,16 +514,18 @@ void read_shapes(const std::vector<std::string>& material_names, std::size_t max
             refuse(node.path(), "a shape may not be an instance (instances are one level deep)");
         }
         DeclaredShape shape{std::string(member.key()), member, -1};
-        ObjectReader reader(material_names, max_primitives, scene, base_directory, nullptr);
+        ObjectReader reader(material_names, max_primitives, primitives, scene, base_directory, nullptr, true);
         if (std::holds_alternative<MeshKind>(kind.shape)) {
-            if (scene.primitive_count() == max_primitives) {
+            if (primitives == max_primitives) {
                 refuse(node.path(), over_primitive_limit("the mesh", max_primitives));
             }
             shape.mesh = static_cast<int>(scene.mesh_shapes.size());
             scene.mesh_shapes.push_back(reader.read_mesh_shape(node, shape.name));
         } else {
             Scene scratch;
-            ObjectReader checker(material_names, max_primitives, scratch, base_directory, nullptr);
+            std::size_t scratch_primitives = 0;
+            ObjectReader checker(material_names, max_primitives, scratch_primitives, scratch, base_directory, nullptr,
+                                 true);
             checker.read(node, 1, 0, std::nullopt);
             require_csg_leaves_within_limit(node, scratch.leaf_paths.size());
         }
@@ -516,12 +534,12 @@ void read_shapes(const std::vector<std::string>& material_names, std::size_t max
 }
 
 void read_top_level_object(const Node& element, const std::vector<std::string>& material_names,
-                           std::size_t max_primitives, const std::filesystem::path& base_directory,
-                           const DeclaredShapes* shapes, Scene& scene) {
-    ObjectReader reader(material_names, max_primitives, scene, base_directory, shapes);
+                           std::size_t max_primitives, std::size_t& primitives,
+                           const std::filesystem::path& base_directory, const DeclaredShapes* shapes, Scene& scene) {
+    ObjectReader reader(material_names, max_primitives, primitives, scene, base_directory, shapes);
     const ObjectKind& kind = require_object_kind(element);
     if (std::holds_alternative<MeshKind>(kind.shape)) {
-        if (scene.primitive_count() == max_primitives) {
+        if (primitives == max_primitives) {
             refuse(element.path(), over_primitive_limit("the mesh", max_primitives));
         }
         reader.read_mesh(element);

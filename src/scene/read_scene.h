@@ -62,16 +62,17 @@ private:
 
 // Reads every shape of `shapes` into `out`: each mesh into scene.mesh_shapes, counted towards `max_primitives`; every
 // other shape read once to refuse what it holds wrong, at its own path. A shape holding an instance is refused.
-void read_shapes(const std::vector<std::string>& material_names, std::size_t max_primitives,
+// `primitives`: the scene's count towards the limit so far (Scene::primitive_count), kept up to date.
+void read_shapes(const std::vector<std::string>& material_names, std::size_t max_primitives, std::size_t& primitives,
                  const std::filesystem::path& base_directory, Scene& scene, DeclaredShapes& out);
 
 // Reads one element of `objects` (a primitive, or a CSG tree) into the scene: the object, and each of
 // its primitives' path and material. `material_names` as in material_names_of. Refuses the primitive that
-// would make the scene's count exceed `max_primitives`.
+// would make the scene's count (`primitives`, as read_shapes keeps it) exceed `max_primitives`.
 // `base_directory`: where a mesh's "file" is looked for, the scene file's folder.
 // `shapes`: those its instances may place, or null where the scene declares none.
 void read_top_level_object(const Node& element, const std::vector<std::string>& material_names,
-                           std::size_t max_primitives, const std::filesystem::path& base_directory,
-                           const DeclaredShapes* shapes, Scene& scene);
+                           std::size_t max_primitives, std::size_t& primitives,
+                           const std::filesystem::path& base_directory, const DeclaredShapes* shapes, Scene& scene);
 
 }  // namespace twinray::scene

@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include "scene/refusal.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -61,6 +63,21 @@ std::size_t Scene::primitive_count() const {
         count += shape.data->triangles.size();
     }
     return count;
+}
+
+const Mesh* Scene::mesh_of_leaf(int leaf) const {
+    const auto found = std::lower_bound(meshes.begin(), meshes.end(), leaf,
+                                        [](const Mesh& mesh, int wanted) { return mesh.leaf < wanted; });
+    return found != meshes.end() && found->leaf == leaf ? &*found : nullptr;
+}
+
+std::string Scene::leaf_name(int leaf) const {
+    const std::string& path = leaf_paths[static_cast<std::size_t>(leaf)];
+    const Mesh* mesh = mesh_of_leaf(leaf);
+    if (mesh == nullptr || !mesh->placement) {
+        return path;
+    }
+    return path + " (" + key_path("shapes", mesh_shapes[static_cast<std::size_t>(mesh->shape)].name) + ")";
 }
 
 ImageSize resolve_image_size(const Scene& scene, int requested_width, int requested_height) {

@@ -197,6 +197,11 @@ struct Scene {
     bool has_transparency() const;
     bool has_reflection() const;
     const Material& material_of_leaf(int leaf) const { return materials[leaf_materials[leaf]]; }
+    // The mesh or instance whose leaf this is, or null (meshes are in leaf order, as the loader reads them).
+    const Mesh* mesh_of_leaf(int leaf) const;
+    // What a hit names: the leaf's path, and for an instance of a mesh shape the shape it places,
+    // "objects[4] (shapes.tree)". An instance's path alone is held, so that a million of them fit in short strings.
+    std::string leaf_name(int leaf) const;
 
     // Filled by the loader beside leaf_paths: leaf index -> material index.
     std::vector<int> leaf_materials;

@@ -136,7 +136,7 @@ struct CompiledShape {
     CompiledMesh mesh;
 };
 
-// An instance of a compiled shape (88 bytes): its transform, relative to the compiled scene's origin, and the
+// An instance of a compiled shape (116 bytes): its transform, relative to the compiled scene's origin, and the
 // norms its hits' rounding bounds need (scene::transformed_spawn_offset). A walk reads L⁻¹ and t.
 struct InstanceRecord {
     math::Transform<float> to_world;
@@ -145,6 +145,7 @@ struct InstanceRecord {
     std::int32_t leaf;
     bool mirrors;  // det L < 0: a triangle's front turns (scene.h)
 };
+static_assert(sizeof(InstanceRecord) == 116, "docs/sse-tracer.md states an instance's bytes");
 
 // One list per primitive type, in the order of scene::PrimitiveTypes.
 struct PrimitiveLists {

@@ -1,0 +1,245 @@
+// Instances of mesh shapes (docs/scene-format.md, "Shapes and instances"): how the loader resolves them, that an
+// instance placed exactly (translations on a binary grid, scales by powers of two) meets the same triangles at the
+// same t, bit for bit, as the mesh written in world coordinates (in the SSE tracer where the scale is even), and that the BVH over instances
+// answers as brute force does.
+#include "reference/tracer.h"
+#include "scene/loader.h"
+#include "sse/cpu.h"
+#include "sse/tracer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <string>
+
+namespace twinray {
+namespace {
+
+const std::string header = R"({
+  "format": "twinray-scene/1",
+  "image": { "width": 80, "height": 60 },
+  "camera": { "eye": [0.3, 3, 7], "look_at": [0, 0.5, -1] },
+  "materials": {
+    "glass": { "color": [1, 1, 1], "diffuse": 0.1, "reflection": 0.1, "transmission": 0.8, "ior": 1.5 },
+    "red": { "color": [0.9, 0.2, 0.1], "diffuse": 0.7, "phong": 0.4 },
+    "blue": { "color": [0.2, 0.3, 0.9], "diffuse": 0.7, "reflection": 0.3 }
+  },
+  "lights": [ { "position": [-3, 6, 4] }, { "position": [4, 3, 2], "color": [0.4, 0.4, 0.5] } ],
+)";
+
+// An octahedron, closed and wound outward, its vertices on a binary grid; smooth, so that its shading normals are
+// carried out of object space too.
+const std::string octahedron = R"({"type": "mesh", "smooth": true,
+    "vertices": [[0.5, 0, 0], [-0.5, 0, 0], [0, 0.5, 0], [0, -0.5, 0], [0, 0, 0.5], [0, 0, -0.5]],
+    "triangles": [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])";
+
+// The same scene twice: instances of the octahedron (moved by a binary grid's steps, scaled by 2, 4 and 0.5), and
+// the octahedra they place written out in world coordinates (worked out by hand: vertex · scale + offset).
+const std::string instanced = header + R"(
+  "shapes": { "gem": )" + octahedron +
+                              R"(} },
+  "objects": [
+    { "type": "plane", "normal": [0, 1, 0], "offset": -1, "material": "blue" },
+    { "type": "instance", "shape": "gem", "material": "red", "transform": [{"translate": [-1.5, 0.25, -0.5]}] },
+    { "type": "instance", "shape": "gem", "material": "glass", "transform": [{"scale": 2}, {"translate": [1, 0.5, -2]}] },
+    { "type": "instance", "shape": "gem", "transform": [{"scale": [4, 0.5, 2]}, {"translate": [0, -0.75, 1]}] }
+  ]
+})";
+
+const std::string flattened = header + R"(
+  "objects": [
+    { "type": "plane", "normal": [0, 1, 0], "offset": -1, "material": "blue" },
+    { "type": "mesh", "material": "red", "smooth": true,
+      "vertices": [[-1, 0.25, -0.5], [-2, 0.25, -0.5], [-1.5, 0.75, -0.5], [-1.5, -0.25, -0.5], [-1.5, 0.25, 0],
+                   [-1.5, 0.25, -1]],
+      "triangles": [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]] },
+    { "type": "mesh", "material": "glass", "smooth": true,
+      "vertices": [[2, 0.5, -2], [0, 0.5, -2], [1, 1.5, -2], [1, -0.5, -2], [1, 0.5, -1], [1, 0.5, -3]],
+      "triangles": [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]] },
+    { "type": "mesh", "smooth": true,
+      "vertices": [[2, -0.75, 1], [-2, -0.75, 1], [0, -0.5, 1], [0, -1, 1], [0, -0.75, 2], [0, -0.75, 0]],
+      "triangles": [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]] }
+  ]
+})";
+
+// The watertight test carries each ray into a frame chosen by its direction's largest component: an uneven scale
+// (objects[3]'s) can choose another axis in object space than in the world, and t then rounds its own way. Evenly
+// scaled and moved instances choose the same axis, and every step of the test is the world's scaled by powers of 2.
+constexpr int uneven_leaf = 3;  // objects[3], scaled by [4, 0.5, 2]
+
+struct Compared {
+    int rays = 0, hits = 0, mismatches = 0;
+    double worst_normal = 0;  // the largest |Δ| of a geometric normal's component, or a shading normal's where even
+    double worst_t = 0;       // the largest |Δt|/t on leaves whose t need not be bit for bit
+};
+
+// Every pixel's primary ray, first hit against first hit: the same leaf and triangle at the same t, bit for bit
+// where exact(leaf), else within 8 ulps. Shading normals are compared where the scale is even: under an uneven one
+// the instance carries its shape's vertex normals through L⁻ᵀ, where the flattened mesh weighs its own triangles.
+template <typename Primary, typename InstancedHit, typename FlattenedHit>
+Compared compare_first_hits(const scene::Scene& scene, Primary&& primary, InstancedHit&& instanced_hit,
+                            FlattenedHit&& flattened_hit, bool (*exact)(int leaf)) {
+    Compared out;
+    for (int y = 0; y < scene.height; ++y) {
+        for (int x = 0; x < scene.width; ++x) {
+            const auto ray = primary(x, y);
+            const auto a = instanced_hit(ray), b = flattened_hit(ray);
+            ++out.rays;
+            using T = decltype(a->t);
+            const double t_error = a && b ? std::fabs(double(a->t) - double(b->t)) / double(b->t) : 0.0;
+            if (a && b && !exact(a->leaf)) {
+                out.worst_t = std::max(out.worst_t, t_error);
+            }
+            const bool same_t = a && b &&
+                                (exact(a->leaf) ? std::memcmp(&a->t, &b->t, sizeof(a->t)) == 0
+                                                : t_error <= 8 * std::numeric_limits<T>::epsilon());
+            if (a.has_value() != b.has_value() ||
+                (a && (!same_t || a->leaf != b->leaf || a->triangle != b->triangle || a->entering != b->entering))) {
+                if (out.mismatches++ == 0) {
+                    std::printf(
+                        "[ measured ] pixel %d,%d: instanced %s t %.17g leaf %d triangle %d, flattened %s t "
+                        "%.17g leaf %d triangle %d\n",
+                        x, y, a ? "hit" : "miss", a ? double(a->t) : 0.0, a ? a->leaf : -1, a ? a->triangle : -1,
+                        b ? "hit" : "miss", b ? double(b->t) : 0.0, b ? b->leaf : -1, b ? b->triangle : -1);
+                }
+                continue;
+            }
+            if (a) {
+                ++out.hits;
+                for (int axis = 0; axis < 3; ++axis) {
+                    const double shading =
+                        a->leaf == uneven_leaf
+                            ? 0.0
+                            : std::fabs(double(a->shading_normal[axis]) - double(b->shading_normal[axis]));
+                    out.worst_normal = std::max(
+                        {out.worst_normal, std::fabs(double(a->normal[axis]) - double(b->normal[axis])), shading});
+                }
+            }
+        }
+    }
+    return out;
+}
+
+class ExactInstances : public ::testing::Test {
+protected:
+    scene::Scene instanced_ = scene::parse_scene(instanced, "<instanced>");
+    scene::Scene flattened_ = scene::parse_scene(flattened, "<flattened>");
+
+    template <typename T>
+    void expect_same_first_hits(const char* name) {
+        const reference::Tracer<T> a(instanced_), b(flattened_);
+        Compared compared = compare_first_hits(
+            instanced_, [&](int x, int y) { return a.primary_ray(x, y, instanced_.width, instanced_.height); },
+            [&](const reference::Ray<T>& ray) { return a.intersect(ray); },
+            [&](const reference::Ray<T>& ray) { return b.intersect(ray); }, [](int) { return true; });
+        report(name, compared, std::numeric_limits<T>::epsilon());
+    }
+
+    static void report(const char* name, const Compared& compared, double epsilon) {
+        std::printf(
+            "[ measured ] %s: %d rays, %d hits on both, %d differ; normals within %.3g (%.2f ulps), t on "
+            "unevenly scaled instances within %.2f ulps\n",
+            name, compared.rays, compared.hits, compared.mismatches, compared.worst_normal,
+            compared.worst_normal / epsilon, compared.worst_t / epsilon);
+        EXPECT_EQ(compared.mismatches, 0) << name;
+        EXPECT_GT(compared.hits, compared.rays / 4) << name << ": the scene must be hit";
+        // A normal comes back through L⁻ᵀ and is made unit again: a few roundings of a unit vector.
+        EXPECT_LE(compared.worst_normal, 4 * epsilon) << name;
+    }
+};
+
+TEST_F(ExactInstances, AMeshShapeIsReadOnceAndEachInstanceIsOneLeafNamedAfterIt) {
+    ASSERT_EQ(instanced_.mesh_shapes.size(), 1u);
+    ASSERT_EQ(instanced_.meshes.size(), 3u);
+    EXPECT_EQ(instanced_.meshes[0].data, instanced_.meshes[2].data);
+    EXPECT_EQ(instanced_.leaf_paths[1], "objects[1]");
+    EXPECT_EQ(instanced_.leaf_name(1), "objects[1] (shapes.gem)");
+    EXPECT_EQ(instanced_.leaf_name(0), "objects[0]");
+    // The floor, three instances and the shape's eight triangles once; flattened, each mesh's eight.
+    EXPECT_EQ(instanced_.primitive_count(), 1u + 3u + 8u);
+    EXPECT_EQ(flattened_.primitive_count(), 1u + 3u * 8u);
+    EXPECT_EQ(instanced_.leaf_materials, flattened_.leaf_materials);
+}
+
+// A shape's own material wins over its instances'; where it names none, each instance's applies.
+TEST(Instances, AShapesMaterialWinsAndAnInstancesAppliesWhereItNamesNone) {
+    const scene::Scene scene = scene::parse_scene(header + R"(
+      "shapes": { "red_gem": {"type": "mesh", "material": "red", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+                              "triangles": [[0, 1, 2]]},
+                  "ball": {"type": "sphere", "center": [0, 0, 0], "radius": 1} },
+      "objects": [
+        { "type": "instance", "shape": "red_gem", "material": "blue" },
+        { "type": "instance", "shape": "ball", "material": "blue", "transform": [{"scale": [1, 2, 1]}] },
+        { "type": "union", "material": "glass", "children": [
+          { "type": "instance", "shape": "ball", "transform": [{"translate": [0, 3, 0]}] },
+          { "type": "sphere", "center": [0, 5, 0], "radius": 1 } ] }
+      ]})",
+                                                  "<materials>");
+    const auto index = [&](const std::string& name) {
+        return static_cast<int>(std::find(scene.material_names.begin(), scene.material_names.end(), name) -
+                                scene.material_names.begin());
+    };
+    ASSERT_EQ(scene.leaf_materials.size(), 4u);
+    EXPECT_EQ(scene.leaf_materials[0], index("red"));
+    EXPECT_EQ(scene.leaf_materials[1], index("blue"));
+    EXPECT_EQ(scene.leaf_materials[2], index("glass"));
+    // A sphere shape's instance is the shape read in its place, under its transform: here an ellipsoid.
+    EXPECT_TRUE(std::holds_alternative<scene::Transformed<scene::Sphere>>(scene.objects.at(0).shape));
+    EXPECT_EQ(scene.leaf_paths[2], "objects[2].children[0] (shapes.ball)");
+}
+
+TEST_F(ExactInstances, TheReferenceMeetsExactInstancesAtTheFlattenedMeshesTBitForBit) {
+    expect_same_first_hits<double>("reference");
+    expect_same_first_hits<float>("reference-float");
+}
+
+TEST_F(ExactInstances, TheSseTracerMeetsEvenlyScaledInstancesAtTheFlattenedMeshesTBitForBit) {
+    if (!sse::cpu_supports_sse41()) {
+        GTEST_SKIP() << sse::missing_sse41_message();
+    }
+    const sse::Tracer a(instanced_), b(flattened_);
+    Compared compared = compare_first_hits(
+        instanced_, [&](int x, int y) { return a.primary_ray(x, y, instanced_.width, instanced_.height); },
+        [&](const sse::Ray& ray) { return a.intersect(ray); }, [&](const sse::Ray& ray) { return b.intersect(ray); },
+        [](int leaf) { return leaf != uneven_leaf; });
+    report("sse", compared, std::numeric_limits<float>::epsilon());
+}
+
+// The number of pixels whose colour differs in any bit; the first one is printed.
+int differing_pixels(const Image& a, const Image& b, const char* what) {
+    int count = 0;
+    for (int y = 0; y < a.height(); ++y) {
+        for (int x = 0; x < a.width(); ++x) {
+            if (std::memcmp(&a.at(x, y), &b.at(x, y), sizeof(Rgb)) != 0 && count++ == 0) {
+                std::printf(
+                    "[ measured ] %s: pixel %d,%d is (%.9g, %.9g, %.9g) with the BVH, (%.9g, %.9g, %.9g) "
+                    "without\n",
+                    what, x, y, a.at(x, y).r, a.at(x, y).g, a.at(x, y).b, b.at(x, y).r, b.at(x, y).g, b.at(x, y).b);
+            }
+        }
+    }
+    return count;
+}
+
+// The BVH over instances (and each shape's own) only skips what a ray cannot meet: images, shadows through the
+// glass instance included, are those of brute force bit for bit.
+TEST_F(ExactInstances, TheBvhOverInstancesRendersAsBruteForceBitForBit) {
+    RenderOptions with_bvh, brute_force;
+    with_bvh.threads = brute_force.threads = 1;
+    with_bvh.accel = Accel::bvh;
+    brute_force.accel = Accel::none;
+    EXPECT_EQ(differing_pixels(reference::render<double>(instanced_, with_bvh).image,
+                               reference::render<double>(instanced_, brute_force).image, "reference"),
+              0);
+    if (sse::cpu_supports_sse41()) {
+        EXPECT_EQ(differing_pixels(sse::render(instanced_, with_bvh).image, sse::render(instanced_, brute_force).image,
+                                   "sse"),
+                  0);
+    }
+}
+
+}  // namespace
+}  // namespace twinray
