@@ -278,10 +278,11 @@ inline RayPacket object_rays(const InstanceRecord& instance, const RayPacket& ra
 }
 
 // Calls visit(crossing, place) for every triangle of the instance's shape (`place` in its triangle list) that some
-// lane of `lanes` meets before its t_max, through the shape's BVH where it has one; t_max is read again at every node.
+// lane of `lanes` meets before its t_max, through the shape's BVH where it has one; visit may lower t_max and clear
+// lanes (a shadow ray blocked), both read again at every node, as for_each_leaf_met reads them.
 template <typename P, typename Visit>
 void for_each_instance_crossing(const CompiledScene& scene, const InstanceRecord& instance, const RayPacket& rays,
-                                vbool4 lanes, const vfloat4& t_max, Visit&& visit) {
+                                vbool4& lanes, const vfloat4& t_max, Visit&& visit) {
     const RayPacket object = object_rays(instance, rays);
     const ShearedRays sheared = ShearedRays::of<P>(object);
     const CompiledShape& shape = scene.shapes[instance.shape];

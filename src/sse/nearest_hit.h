@@ -213,8 +213,9 @@ public:
         auto keep_instance = [&](std::uint32_t index) {
             const InstanceRecord& instance = scene_.instances[index];
             const TriangleList& triangles = scene_.shapes[instance.shape].triangles;
+            vbool4 lanes = rays.active;
             for_each_instance_crossing<P>(
-                scene_, instance, rays, rays.active, nearest.t, [&](TriangleHit4 crossing, std::uint32_t place) {
+                scene_, instance, rays, lanes, nearest.t, [&](TriangleHit4 crossing, std::uint32_t place) {
                     crossing.front = instance.mirrors ? !crossing.front : crossing.front;
                     keep_nearest_triangle(nearest, crossing, instance.leaf, triangles.items[place].triangle, place,
                                           static_cast<std::int32_t>(index));

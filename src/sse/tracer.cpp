@@ -194,8 +194,8 @@ int Tracer::mesh_crossings(const Ray& world_ray, float distance) const {
             count += (movemask(crossing.valid & (crossing.t < vfloat4(distance))) & 1);
         };
         auto count_instance = [&](std::uint32_t index) {
-            for_each_instance_crossing<P>(scene, scene.instances[index], rays, rays.active, vfloat4(distance),
-                                          count_lane_0);
+            vbool4 lanes = rays.active;
+            for_each_instance_crossing<P>(scene, scene.instances[index], rays, lanes, vfloat4(distance), count_lane_0);
         };
         if (scene.bvh.empty()) {
             if (sheared) {
