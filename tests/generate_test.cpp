@@ -8,6 +8,7 @@
 #include "run_twinray.h"
 #include "sanitized_build.h"
 #include "scene/loader.h"
+#include "scene/mesh_file.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
 
@@ -47,6 +48,7 @@ const std::vector<std::string> closed_mesh_families = {"sphere-mesh", "torus-mes
 std::vector<std::string> all_families() {
     std::vector<std::string> all = primitive_families;
     all.insert(all.end(), mesh_families.begin(), mesh_families.end());
+    all.push_back("forest");
     return all;
 }
 
@@ -355,6 +357,38 @@ TEST_P(ClosedMeshFamily, ClosedMeshesAreWoundOutwardWithAPositiveVolume) {
 
 // A sphere of radius 1 and a torus of radii 1 and 1/3: the mesh's volume approaches the solid's as its
 // triangles shrink.
+// One tree of 1 008 triangles (a trunk of 12 sides, three cones of 40 around and three rings), closed and wound
+// outward, and exactly `size` instances of it, each placed by a turn about the vertical, an even scale in
+// [0.7, 1.2] and a translation along the floor.
+TEST_F(GenerateTest, ForestIsOneClosedTreeShapeAndExactlySizeInstancesOfIt) {
+    for (int size : {1, 2, 10, 1000}) {
+        Generated generated = generate("forest", size);
+        EXPECT_EQ(generated.scene.primitives, size + 1) << "--size " << size;
+        EXPECT_EQ(generated.scene.triangles, 1008) << "--size " << size;
+        const twinray::scene::Scene scene = twinray::scene::parse_scene(generated.text, "<forest>");
+        ASSERT_EQ(scene.mesh_shapes.size(), 1u);
+        ASSERT_EQ(scene.meshes.size(), static_cast<std::size_t>(size));
+        EXPECT_EQ(scene.primitive_count(), static_cast<std::size_t>(size) + 1 + 1008) << "--size " << size;
+        for (const twinray::scene::Mesh& mesh : scene.meshes) {
+            ASSERT_TRUE(mesh.placement.has_value());
+            const double scale = std::cbrt(twinray::math::determinant(mesh.placement->linear));
+            EXPECT_GE(scale, 0.7 - 1e-9);
+            EXPECT_LE(scale, 1.2 + 1e-9);
+            EXPECT_EQ(mesh.placement->translation.y, 0.0);
+        }
+        const twinray::scene::MeshData& tree = *scene.mesh_shapes[0].data;
+        EXPECT_TRUE(twinray::scene::topology_of(tree).closed());
+        Mesh mesh;
+        for (const twinray::scene::Vec3& v : tree.vertices) {
+            mesh.vertices.push_back({v.x, v.y, v.z});
+        }
+        for (const auto& t : tree.triangles) {
+            mesh.triangles.push_back({t[0], t[1], t[2]});
+        }
+        EXPECT_GT(signed_volume(mesh), 0) << "wound outward";
+    }
+}
+
 TEST_F(GenerateTest, SphereAndTorusMeshesEncloseTheirSolidsVolume) {
     const double pi = 3.141592653589793;
     const std::vector<std::pair<std::string, double>> solids = {{"sphere-mesh", 4 * pi / 3},
@@ -686,6 +720,8 @@ TEST_F(GenerateTest, GeneratedFilesAreTheRecordedBytes) {
         // mount's heights are sums and halves of splitmix64's doubles; gears' faces are the ear clipper's.
         {"mount", 0xa2d087384e902c6eULL},
         {"gears", 0x5fd2f4fc20dbb6b0ULL},
+        // forest's tree holds sine_cosine's bits, its placements splitmix64's doubles.
+        {"forest", 0x542f96d34a17bc4cULL},
     };
     for (const auto& [family, hash] : recorded) {
         EXPECT_EQ(fnv1a(generate(family, 300, 1).text), hash) << family;

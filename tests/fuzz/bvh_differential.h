@@ -89,6 +89,8 @@ public:
         // The high bit, clear in every input older than transforms, gives objects transforms: old inputs keep
         // decoding to the very cases they found.
         transforms_ = (first & 0x80) != 0;
+        // Both high bits: some top-level meshes become shapes, placed by instances (and their copies).
+        instances_ = (first & 0xC0) == 0xC0;
         int width = 4 + in_.byte() % 4;
         int height = 3 + in_.byte() % 3;
         scene::Vec3 eye = in_.point();
@@ -148,7 +150,8 @@ public:
             primitives_left -= previous_primitives;
             objects += (objects.empty() ? "" : ", ") + previous;
         }
-        out.scene_text = header + ", \"objects\": [" + objects + "]}";
+        out.scene_text =
+            header + (shapes_.empty() ? "" : ", \"shapes\": {" + shapes_ + "}") + ", \"objects\": [" + objects + "]}";
         for (const RaySpec& spec : specs) {
             scene::Vec3 target = spec.free_target;
             if (spec.aim < 192 && !anchors_.empty()) {
@@ -180,6 +183,11 @@ private:
     std::string object(int level, int& leaves_left, const std::string& own_material) {
         std::size_t first_anchor = anchors_.size();
         std::string text = untransformed_object(level, leaves_left, own_material);
+        if (instances_ && level == 1 && text.rfind(R"({"type": "mesh")", 0) == 0 && in_.byte() % 2 == 0) {
+            const std::string name = "s" + std::to_string(shape_count_++);
+            shapes_ += (shapes_.empty() ? "\"" : ", \"") + name + "\": " + text;
+            return R"({"type": "instance", "shape": ")" + name + "\"" + transform_about(anchors_[first_anchor]) + "}";
+        }
         if (transforms_ && anchors_.size() > first_anchor && in_.byte() % 8 < 3) {
             text.insert(text.size() - 1, transform_about(anchors_[first_anchor]));
         }
@@ -285,6 +293,9 @@ private:
 
     ByteReader in_;
     bool transforms_ = false;
+    bool instances_ = false;
+    std::string shapes_;  // the "shapes" block's members
+    int shape_count_ = 0;
     std::vector<scene::Vec3> anchors_;  // a point of each primitive, for rays to aim at
 };
 
