@@ -274,7 +274,9 @@ inline RayPacket object_rays(const InstanceRecord& instance, const RayPacket& ra
     for (int i = 0; i < 3; ++i) {
         inverse.row[i] = broadcast(m.inverse.row[i]);
     }
-    return RayPacket(inverse * (rays.origin - broadcast(m.translation)), inverse * rays.direction, rays.active);
+    Vec3x4 origin = mutated<Mutant::transform_order_swapped> ? inverse * rays.origin - broadcast(m.translation)
+                                                             : inverse * (rays.origin - broadcast(m.translation));
+    return RayPacket(origin, inverse * rays.direction, rays.active);
 }
 
 // Calls visit(crossing, place) for every triangle of the instance's shape (`place` in its triangle list) that some

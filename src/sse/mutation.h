@@ -28,7 +28,7 @@ enum class Mutant : int {
     triangle_edge_ties_ignored,           // an edge function of exactly 0 misses (strict > and <, no tie rule)
     triangle_winding_flipped,             // a triangle's front is its clockwise side
     triangle_shear_dropped,               // triangles projected along the direction's largest axis, not the ray
-    transformed_normal_through_matrix,    // a transformed primitive's normal goes through L, not L⁻ᵀ
+    transformed_normal_through_matrix,    // a transformed primitive's or instance's normal goes through L
     transformed_normal_not_renormalized,  // ... and is not made unit again where the primitive's own is unit
     transform_order_swapped,              // a ray enters object space as L⁻¹·o − t, not L⁻¹·(o − t)
 };

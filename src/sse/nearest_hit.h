@@ -394,7 +394,8 @@ private:
         float object_offset = bounds.spawn_offset.size * longest + bounds.spawn_offset.point_factor * extent;
         LaneSurface out;
         bool front = entering != instance.mirrors;
-        out.outward = m.normal_to_world(front ? normal : -normal);
+        out.outward = mutated<Mutant::transformed_normal_through_matrix> ? m.linear * (front ? normal : -normal)
+                                                                         : m.normal_to_world(front ? normal : -normal);
         out.needs_normalizing = true;
         out.anchor = {
             world,
