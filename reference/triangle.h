@@ -80,7 +80,7 @@ struct MeshInstance {
 
 template <typename T>
 MeshInstance<T> make_instance(const scene::Mesh& mesh) {
-    const scene::Transform& m = *mesh.placement;
+    const scene::Transform m = mesh.placement->transform();
     return {static_cast<std::uint32_t>(mesh.shape), math::Transform<T>::from(m), scene::transform_norms<T>(m),
             math::determinant(m.linear) < 0, mesh.leaf};
 }

@@ -118,9 +118,10 @@ std::vector<Curvature> curvatures(const scene::Scene& scene) {
             continue;
         }
         // As a transformed primitive's curvature_radius: shrunk by the most the transform can bend it.
-        const double shrink = math::frobenius_norm(mesh.placement->inverse);
+        const scene::Transform to_world = mesh.placement->transform();
+        const double shrink = math::frobenius_norm(to_world.inverse);
         radius = shape_radius[static_cast<std::size_t>(mesh.shape)] /
-                 (shrink * shrink * math::frobenius_norm(mesh.placement->linear));
+                 (shrink * shrink * math::frobenius_norm(to_world.linear));
     }
     return by_leaf;
 }

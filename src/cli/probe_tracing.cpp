@@ -63,7 +63,7 @@ std::optional<std::array<double, 3>> barycentrics(const scene::Scene& scene, con
         return std::nullopt;
     }
     // An instance's triangle is its shape's, in the shape's own space.
-    const scene::Vec3 point = mesh->placement ? mesh->placement->point_to_object(node.point) : node.point;
+    const scene::Vec3 point = mesh->placement ? mesh->placement->transform().point_to_object(node.point) : node.point;
     return scene::barycentrics(*mesh->data, static_cast<std::uint32_t>(node.triangle), point);
 }
 

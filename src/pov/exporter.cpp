@@ -322,7 +322,7 @@ private:
                 line(1, modifier);
             }
             if (mesh.placement) {
-                line(1, matrix(*mesh.placement));
+                line(1, matrix(mesh.placement->transform()));
             }
             line(0, "}");
         };

@@ -115,9 +115,8 @@ Mesh moved(const Mesh& mesh, double scale, const Vec3& shift) {
     Mesh out = mesh;
     if (out.placement) {
         // As a transformed primitive's: (s·L)·x + (s·t + shift), the shape's own vertices kept.
-        for (int i = 0; i < 3; ++i) {
-            out.placement->linear.row[i] = scale * out.placement->linear.row[i];
-            out.placement->inverse.row[i] = out.placement->inverse.row[i] / scale;
+        for (Vec3& row : out.placement->linear.row) {
+            row = scale * row;
         }
         out.placement->translation = moved(out.placement->translation, scale, shift);
         return out;

@@ -233,7 +233,7 @@ Scene flattened(const Scene& scene) {
             continue;
         }
         auto data = std::make_shared<MeshData>(*mesh.data);
-        place(*data, *mesh.placement);
+        place(*data, mesh.placement->transform());
         data->degenerate = degenerate_triangles(*data);
         mesh = Mesh{std::move(data), mesh.material, mesh.leaf, std::nullopt, -1};
     }

@@ -203,19 +203,23 @@ struct Range {
 
 class Builder {
 public:
-    explicit Builder(const std::vector<BvhInput>& inputs) : inputs_(inputs), bins_(inputs.size()) {
+    // The inputs are released once their boxes are references and their items kept apart (8 bytes, not 56): at a
+    // million items that is 48 MB less at the build's peak, when the binary tree is largest.
+    explicit Builder(std::vector<BvhInput> inputs) : bins_(inputs.size()) {
         references_.reserve(inputs.size());
+        items_.reserve(inputs.size());
         for (std::size_t i = 0; i < inputs.size(); ++i) {
             references_.push_back(reference_of(inputs[i], static_cast<std::uint32_t>(i)));
+            items_.push_back(inputs[i].item);
         }
     }
 
     BinaryTree run() {
         BinaryTree bvh;
-        if (inputs_.empty()) {
+        if (items_.empty()) {
             return bvh;
         }
-        bvh.nodes.reserve(2 * inputs_.size());
+        bvh.nodes.reserve(2 * items_.size());
         bvh.nodes.resize(1);
         // Depth first, left child first, on an explicit stack: no recursion a degenerate scene could overflow.
         struct Task {
@@ -255,11 +259,11 @@ public:
             tasks.push_back({first + 1, task.depth + 1, right});
             tasks.push_back({first, task.depth + 1, left});
         }
-        // All at the end, in one tight loop: the inputs are scattered in memory, and loads issued back to back
+        // All at the end, in one tight loop: the items are scattered in memory, and loads issued back to back
         // overlap their cache misses where one per leaf, between splits, waited alone.
         bvh.items.reserve(references_.size());
         for (const Reference& reference : references_) {
-            bvh.items.push_back(inputs_[reference.input].item);
+            bvh.items.push_back(items_[reference.input]);
         }
         return bvh;
     }
@@ -414,7 +418,7 @@ private:
         return {halves[0], halves[1]};
     }
 
-    const std::vector<BvhInput>& inputs_;
+    LargeArray<BvhItem> items_;  // in input order
     LargeArray<Reference> references_;
     // Each item's bins in the node being split, kept in step with references_ by partition.
     LargeArray<ItemBins> bins_;
@@ -508,8 +512,8 @@ Bvh collapse(BinaryTree&& binary) {
 
 }  // namespace
 
-Bvh build_bvh(const std::vector<BvhInput>& inputs) {
-    return collapse(Builder(inputs).run());
+Bvh build_bvh(std::vector<BvhInput> inputs) {
+    return collapse(Builder(std::move(inputs)).run());
 }
 
 std::size_t bvh_bytes(const Bvh& bvh) {

@@ -72,8 +72,9 @@ struct Bvh {
 // rounding of a hit point (a few ulps of the distances involved).
 constexpr double bvh_padding = 1.0 / 8192.0;
 
-// `inputs` in the order the leaves' items should keep among equals (the compiled lists' order).
-Bvh build_bvh(const std::vector<BvhInput>& inputs);
+// `inputs` in the order the leaves' items should keep among equals (the compiled lists' order); taken, so that the
+// build can release them early.
+Bvh build_bvh(std::vector<BvhInput> inputs);
 
 // Bytes of nodes, items and file order.
 std::size_t bvh_bytes(const Bvh& bvh);

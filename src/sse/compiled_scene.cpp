@@ -100,7 +100,11 @@ public:
                               [](const scene::Object& object) { return std::holds_alternative<S>(object.shape); })));
         });
         std::vector<BvhInput> bounded;
-        bounded.reserve(scene_.objects.size());
+        std::size_t mesh_items = 0;  // instances and triangles
+        for (const scene::Mesh& mesh : scene_.meshes) {
+            mesh_items += mesh.placement ? 1 : mesh.data->triangles.size();
+        }
+        bounded.reserve(scene_.objects.size() + mesh_items);
         std::vector<BvhItem> unbounded;
         // What the choice of a BVH weighs: what brute force would spend on the bounded objects, in sphere tests.
         double bounded_cost = 0;
@@ -139,24 +143,23 @@ public:
             shape_costs.push_back(shape_cost(out.shapes.back()));
             shape_bounds.push_back(scene::vertex_bounds(*shape.data));
         }
+        std::uint32_t instance_index = 0;
         for (const scene::Mesh& mesh : scene_.meshes) {
             if (!mesh.placement) {
                 add_mesh(out, mesh, any_smooth, bounded);
                 continue;
             }
             const auto shape = static_cast<std::size_t>(mesh.shape);
-            bounded.push_back({scene::placed_bounds(shape_bounds[shape], *mesh.placement),
-                               {instance_list, static_cast<std::uint32_t>(out.instances.size())}});
-            out.instances.push_back({math::Transform<float>::from(*mesh.placement),
-                                     scene::transform_norms<float>(*mesh.placement), static_cast<std::uint32_t>(shape),
-                                     mesh.leaf, math::determinant(mesh.placement->linear) < 0});
-            out.leaves[static_cast<std::size_t>(mesh.leaf)] = {InstanceSurface{}, mesh.material};
+            bounded.push_back({scene::placed_bounds(shape_bounds[shape], mesh.placement->transform()),
+                               {instance_list, instance_index++}});
             bounded_cost += transformed_trip_cost + shape_costs[shape];
         }
         bounded_cost += triangle_test_cost * static_cast<double>(out.triangles.items.size());
         if (accel_ == Accel::bvh || (accel_ == Accel::automatic && bounded_cost > static_cast<double>(bvh_crossover))) {
-            add_bvh(out, bounded, unbounded, scene_.has_transparency());
+            add_bvh(out, std::move(bounded), unbounded, scene_.has_transparency());
         }
+        // After the build, which keeps their order: its arrays and a million records (116 MB) are never held at once.
+        add_instances(out);
         for (const scene::Light& light : scene_.lights) {
             out.lights.push_back({Vec3(light.position), Color(light.color)});
         }
@@ -173,10 +176,10 @@ public:
 
 private:
     // The BVH over `bounded`; the rest in the flat lists every ray tests, in their compiled order.
-    static void add_bvh(CompiledScene& out, const std::vector<BvhInput>& bounded, const std::vector<BvhItem>& unbounded,
+    static void add_bvh(CompiledScene& out, std::vector<BvhInput> bounded, const std::vector<BvhItem>& unbounded,
                         bool keep_triangle_file_order) {
         const double cpu_start = process_cpu_seconds();
-        out.bvh = build_bvh(bounded);
+        out.bvh = build_bvh(std::move(bounded));
         out.bvh_build_cpu_seconds = process_cpu_seconds() - cpu_start;
         std::uint32_t list_index = 0;
         out.primitives.for_each_pair(out.unbounded, [&](const auto& all, auto& kept) {
@@ -296,6 +299,23 @@ private:
         });
     }
 
+    // The instances, in file order, as the BVH's items name them; the brute-force list when there is no BVH.
+    void add_instances(CompiledScene& out) const {
+        out.instances.reserve(static_cast<std::size_t>(
+            std::count_if(scene_.meshes.begin(), scene_.meshes.end(),
+                          [](const scene::Mesh& mesh) { return mesh.placement.has_value(); })));
+        for (const scene::Mesh& mesh : scene_.meshes) {
+            if (!mesh.placement) {
+                continue;
+            }
+            const scene::Transform to_world = mesh.placement->transform();
+            out.instances.push_back({math::Transform<float>::from(to_world), scene::transform_norms<float>(to_world),
+                                     static_cast<std::uint32_t>(mesh.shape), mesh.leaf,
+                                     math::determinant(to_world.linear) < 0});
+            out.leaves[static_cast<std::size_t>(mesh.leaf)] = {InstanceSurface{}, mesh.material};
+        }
+    }
+
     // A shape's triangles in its own space, with its own BVH where brute force would cost more (as the scene's), its
     // records then in the order of that BVH's leaves.
     CompiledShape compile_shape(const scene::MeshData& data) const {
@@ -320,7 +340,7 @@ private:
             shape.triangles = std::move(in_file_order);
             return shape;
         }
-        shape.bvh = build_bvh(inputs);
+        shape.bvh = build_bvh(std::move(inputs));
         for (BvhItem& item : shape.bvh.items) {
             shape.triangles.items.push_back(in_file_order.items[item.index]);
             if (data.smooth) {
