@@ -21,7 +21,7 @@ scene::Box as_float_safe_box(const scene::Bounds& bounds) {
 // Appends a primitive to the list of its type (at top level, or inside one CSG object) and records its
 // surface for hits; returns where it went.
 BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int32_t id, float transmission,
-                      LargeArray<Leaf>& leaves) {
+                      LeafTable& leaves) {
     BvhItem added{};
     std::visit(
         [&](const auto& shape) {
@@ -91,7 +91,13 @@ public:
                                      static_cast<float>(m.reflection), static_cast<float>(m.transmission),
                                      static_cast<float>(m.ior)});
         }
-        out.leaves.resize(scene_.leaf_paths.size());
+        std::vector<std::int32_t> instance_leaves;
+        for (const scene::Mesh& mesh : scene_.meshes) {
+            if (mesh.placement) {
+                instance_leaves.push_back(mesh.leaf);
+            }
+        }
+        out.leaves.assign(scene_.leaf_paths.size(), instance_leaves);
         // Reserved, not grown: a million primitives would otherwise be copied some twenty times over.
         scene::PrimitiveTypes::for_each([&](auto type) {
             using S = typename decltype(type)::type;
@@ -159,7 +165,7 @@ public:
             add_bvh(out, std::move(bounded), unbounded, scene_.has_transparency());
         }
         // After the build, which keeps their order: its arrays and a million records (116 MB) are never held at once.
-        add_instances(out);
+        add_instances(out, instance_leaves.size());
         for (const scene::Light& light : scene_.lights) {
             out.lights.push_back({Vec3(light.position), Color(light.color)});
         }
@@ -300,19 +306,16 @@ private:
     }
 
     // The instances, in file order, as the BVH's items name them; the brute-force list when there is no BVH.
-    void add_instances(CompiledScene& out) const {
-        out.instances.reserve(static_cast<std::size_t>(
-            std::count_if(scene_.meshes.begin(), scene_.meshes.end(),
-                          [](const scene::Mesh& mesh) { return mesh.placement.has_value(); })));
+    void add_instances(CompiledScene& out, std::size_t count) const {
+        out.instances.reserve(count);
         for (const scene::Mesh& mesh : scene_.meshes) {
             if (!mesh.placement) {
                 continue;
             }
             const scene::Transform to_world = mesh.placement->transform();
             out.instances.push_back({math::Transform<float>::from(to_world), scene::transform_norms<float>(to_world),
-                                     static_cast<std::uint32_t>(mesh.shape), mesh.leaf,
+                                     static_cast<std::uint32_t>(mesh.shape), mesh.leaf, mesh.material,
                                      math::determinant(to_world.linear) < 0});
-            out.leaves[static_cast<std::size_t>(mesh.leaf)] = {InstanceSurface{}, mesh.material};
         }
     }
 

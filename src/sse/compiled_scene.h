@@ -17,6 +17,7 @@
 #include "sse/transformed.h"
 #include "sse/triangle.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <tuple>
 #include <type_traits>
@@ -136,16 +137,18 @@ struct CompiledShape {
     CompiledMesh mesh;
 };
 
-// An instance of a compiled shape (116 bytes): its transform, relative to the compiled scene's origin, and the
-// norms its hits' rounding bounds need (scene::transformed_spawn_offset). A walk reads L⁻¹ and t.
+// An instance of a compiled shape (120 bytes): its transform, relative to the compiled scene's origin, and the
+// norms its hits' rounding bounds need (scene::transformed_spawn_offset). A walk reads L⁻¹ and t. Its leaf has no
+// entry in CompiledScene::leaves: its material is here.
 struct InstanceRecord {
     math::Transform<float> to_world;
     scene::TransformNorms<float> norms;
     std::uint32_t shape;  // index into CompiledScene::shapes
     std::int32_t leaf;
+    std::int32_t material;
     bool mirrors;  // det L < 0: a triangle's front turns (scene.h)
 };
-static_assert(sizeof(InstanceRecord) == 116, "docs/sse-tracer.md states an instance's bytes");
+static_assert(sizeof(InstanceRecord) == 120, "docs/sse-tracer.md states an instance's bytes");
 
 // One list per primitive type, in the order of scene::PrimitiveTypes.
 struct PrimitiveLists {
@@ -218,13 +221,57 @@ struct CsgObject {
 struct MeshSurface {
     std::uint32_t mesh;
 };
-// An instance's leaf: the triangle and the instance come with the hit.
-struct InstanceSurface {};
-using LeafSurface = scene::PrimitiveTypes::map<SurfaceOf>::append<MeshSurface, InstanceSurface>::apply<std::variant>;
+using LeafSurface = scene::PrimitiveTypes::map<SurfaceOf>::append<MeshSurface>::apply<std::variant>;
 
 struct Leaf {
     LeafSurface surface;
     int material = 0;
+};
+
+// Each leaf's Leaf, by its global index, but an instance's: its record holds its material and its hit names the
+// record, so that a million instances do not hold 48 MB of entries no one reads. The runs of instances' leaves left
+// out are kept to find the others' entries; a scene without instances has none and is indexed directly.
+class LeafTable {
+public:
+    // `instance_leaves` ascending.
+    void assign(std::size_t leaf_count, const std::vector<std::int32_t>& instance_leaves) {
+        runs_.clear();
+        for (std::int32_t leaf : instance_leaves) {
+            const auto at = static_cast<std::uint32_t>(leaf);
+            if (!runs_.empty() && runs_.back().end == at) {
+                ++runs_.back().end;
+            } else {
+                const std::uint32_t before =
+                    runs_.empty() ? 0 : runs_.back().left_out_before + (runs_.back().end - runs_.back().first);
+                runs_.push_back({at, at + 1, before});
+            }
+        }
+        entries_.assign(leaf_count - instance_leaves.size(), Leaf{});
+    }
+    // Never an instance's leaf.
+    Leaf& operator[](std::size_t leaf) { return entries_[entry_of(leaf)]; }
+    const Leaf& operator[](std::size_t leaf) const { return entries_[entry_of(leaf)]; }
+
+private:
+    struct Run {
+        std::uint32_t first, end;       // leaves [first, end) are instances'
+        std::uint32_t left_out_before;  // instances' leaves below `first`
+    };
+    std::size_t entry_of(std::size_t leaf) const {
+        if (runs_.empty()) {
+            return leaf;
+        }
+        auto after = std::upper_bound(runs_.begin(), runs_.end(), leaf,
+                                      [](std::size_t at, const Run& run) { return at < run.first; });
+        if (after == runs_.begin()) {
+            return leaf;
+        }
+        const Run& run = *(after - 1);
+        return leaf - run.left_out_before - (run.end - run.first);
+    }
+
+    LargeArray<Leaf> entries_;
+    std::vector<Run> runs_;
 };
 
 struct Material {
@@ -260,7 +307,7 @@ struct CompiledScene {
     PrimitiveLists unbounded;
     std::vector<std::int32_t> unbounded_csg;  // indices into csg_objects, ascending
 
-    LargeArray<Leaf> leaves;
+    LeafTable leaves;
     std::vector<Material> materials;
     std::vector<Light> lights;
     Color background, ambient_light;

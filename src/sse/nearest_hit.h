@@ -179,6 +179,7 @@ struct Hit4 {
     Vec3x4 normal;  // unit, facing the ray: the geometric normal, which decides sides and spawn offsets
     vint4 leaf;
     vint4 triangle;  // on a mesh, the triangle's index in it; else -1
+    vint4 material;  // index into CompiledScene::materials
     vbool4 entering;
     vfloat4 spawn_offset;  // how far off the surface secondary rays start
     // What shading uses: `normal`, or on a smooth mesh the interpolated normal turned to its side.
@@ -318,7 +319,7 @@ private:
         std::visit(
             [&](const auto& surface) {
                 using Surface = std::decay_t<decltype(surface)>;
-                if constexpr (!std::is_same_v<Surface, MeshSurface> && !std::is_same_v<Surface, InstanceSurface>) {
+                if constexpr (!std::is_same_v<Surface, MeshSurface>) {
                     out.outward = outward_normal(surface, face, point, out.needs_normalizing);
                     out.anchor = surface_anchor(surface, face, flipped ? -1.0f : 1.0f, point);
                 }
@@ -452,7 +453,7 @@ private:
             _mm_castsi128_ps(_mm_cmpeq_epi32((nearest.tag & vint4(tag_entering)).m, vint4(tag_entering).m))};
         alignas(16) float point[3][4], normal[3][4], anchor[3][4], radius[4], own_rounding[4], size_bound[4],
             point_factor[4];
-        alignas(16) std::int32_t leaf[4], tag[4], curved[4], place[4], triangle[4] = {-1, -1, -1, -1};
+        alignas(16) std::int32_t leaf[4], tag[4], curved[4], place[4], triangle[4] = {-1, -1, -1, -1}, material[4] = {};
         for (int axis = 0; axis < 3; ++axis) {
             hit.point[axis].store(point[axis]);
         }
@@ -469,23 +470,27 @@ private:
         for (int lane = 0; lane < 4; ++lane) {
             LaneSurface surface;
             if ((lanes >> lane) & 1) {
-                const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
                 Vec3 lane_point{point[0][lane], point[1][lane], point[2][lane]};
-                if (const auto* mesh = std::get_if<MeshSurface>(&info.surface)) {
-                    triangle_lanes |= 1 << lane;
-                    triangle[lane] = static_cast<std::int32_t>(
-                        scene_.triangles.items[static_cast<std::size_t>(place[lane])].triangle);
-                    const CompiledMesh& compiled = scene_.meshes[mesh->mesh];
-                    smooth[lane] = compiled.normals.empty() ? nullptr : &compiled;
-                } else if (std::holds_alternative<InstanceSurface>(info.surface)) {
+                if (instance[lane] >= 0) {
                     const InstanceRecord& record = scene_.instances[static_cast<std::size_t>(instance[lane])];
                     const auto at = static_cast<std::uint32_t>(place[lane]);
                     const CompiledShape& shape = scene_.shapes[record.shape];
                     triangle[lane] = static_cast<std::int32_t>(shape.triangles.items[at].triangle);
+                    material[lane] = record.material;
                     surface = instance_surface(record, at, ((entering_lanes >> lane) & 1) != 0, lane_point);
                     smooth_instance[lane] = shape.mesh.normals.empty() ? nullptr : &record;
                 } else {
-                    surface = lane_surface(info, tag[lane], lane_point);
+                    const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
+                    material[lane] = info.material;
+                    if (const auto* mesh = std::get_if<MeshSurface>(&info.surface)) {
+                        triangle_lanes |= 1 << lane;
+                        triangle[lane] = static_cast<std::int32_t>(
+                            scene_.triangles.items[static_cast<std::size_t>(place[lane])].triangle);
+                        const CompiledMesh& compiled = scene_.meshes[mesh->mesh];
+                        smooth[lane] = compiled.normals.empty() ? nullptr : &compiled;
+                    } else {
+                        surface = lane_surface(info, tag[lane], lane_point);
+                    }
                 }
             }
             for (int axis = 0; axis < 3; ++axis) {
@@ -533,6 +538,7 @@ private:
         vbool4 facing_away = dot<P>(outward, direction) > vfloat4(0.0f);
         hit.normal = select(mutated<Mutant::normal_faces_away> ? !facing_away : facing_away, -outward, outward);
         hit.triangle = vint4::load(triangle);
+        hit.material = vint4::load(material);
         hit.shading_normal = hit.normal;
         if (smooth[0] != nullptr || smooth[1] != nullptr || smooth[2] != nullptr || smooth[3] != nullptr ||
             smooth_instance[0] != nullptr || smooth_instance[1] != nullptr || smooth_instance[2] != nullptr ||

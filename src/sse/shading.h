@@ -90,8 +90,8 @@ public:
 
 private:
     Material4 gather_material(const Hit4& hit) const {
-        alignas(16) std::int32_t leaf[4];
-        hit.leaf.store(leaf);
+        alignas(16) std::int32_t material[4];
+        hit.material.store(material);
         int lanes = movemask(hit.hit);
         float values[10][4] = {};
         std::array<int, 4> index{};
@@ -99,9 +99,8 @@ private:
             if (((lanes >> lane) & 1) == 0) {
                 continue;
             }
-            const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
-            index[static_cast<std::size_t>(lane)] = info.material;
-            const Material& m = scene_.materials[static_cast<std::size_t>(info.material)];
+            index[static_cast<std::size_t>(lane)] = material[lane];
+            const Material& m = scene_.materials[static_cast<std::size_t>(material[lane])];
             const float fields[10] = {m.color.x, m.color.y,    m.color.z,    m.ambient,      m.diffuse,
                                       m.phong,   m.phong_size, m.reflection, m.transmission, m.ior};
             for (int field = 0; field < 10; ++field) {

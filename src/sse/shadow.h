@@ -165,13 +165,13 @@ public:
                     }
                 };
                 auto record_instance = [&](std::uint32_t index) {
-                    const std::int32_t leaf = scene_.instances[index].leaf;
+                    const InstanceRecord& instance = scene_.instances[index];
                     for_each_instance_crossing<P>(
-                        scene_, scene_.instances[index], rays, lanes, distance,
-                        [&](const TriangleHit4& crossing, std::uint32_t) {
+                        scene_, instance, rays, lanes, distance, [&](const TriangleHit4& crossing, std::uint32_t) {
                             vbool4 between = triangle_between(crossing);
                             if (any(between)) {
-                                factors.add({instance_list, leaf, between, none_true(), material_transmission(leaf)});
+                                factors.add(
+                                    {instance_list, instance.leaf, between, none_true(), transmission_of(instance)});
                             }
                         });
                 };
@@ -206,7 +206,7 @@ public:
                         });
                 }
                 for (const InstanceRecord& instance : scene_.instances) {
-                    const float transmission = material_transmission(instance.leaf);
+                    const float transmission = transmission_of(instance);
                     for_each_instance_crossing<P>(scene_, instance, rays, lanes, distance,
                                                   [&](const TriangleHit4& crossing, std::uint32_t) {
                                                       multiply(triangle_between(crossing), none_true(), transmission);
@@ -254,6 +254,9 @@ private:
     float material_transmission(std::int32_t leaf) const {
         const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf)];
         return scene_.materials[static_cast<std::size_t>(info.material)].transmission;
+    }
+    float transmission_of(const InstanceRecord& instance) const {
+        return scene_.materials[static_cast<std::size_t>(instance.material)].transmission;
     }
 
     const CompiledScene& scene_;
