@@ -167,8 +167,8 @@ Tracer<T>::Tracer(const scene::Scene& scene, Accel accel)
             continue;
         }
         instances_.push_back(make_instance<T>(mesh));
-        instance_bounds.push_back(
-            scene::placed_bounds(shape_bounds[static_cast<std::size_t>(mesh.shape)], mesh.placement->transform()));
+        instance_bounds.push_back(scene::placed_bounds(shape_bounds[static_cast<std::size_t>(mesh.placement->shape)],
+                                                       mesh.placement->transform()));
     }
     // An instance's test carries the ray into its space and walks its shape's BVH: many box tests' worth.
     if (accel != Accel::none) {

@@ -81,8 +81,8 @@ struct MeshInstance {
 template <typename T>
 MeshInstance<T> make_instance(const scene::Mesh& mesh) {
     const scene::Transform m = mesh.placement->transform();
-    return {static_cast<std::uint32_t>(mesh.shape), math::Transform<T>::from(m), scene::transform_norms<T>(m),
-            math::determinant(m.linear) < 0, mesh.leaf};
+    return {static_cast<std::uint32_t>(mesh.placement->shape), math::Transform<T>::from(m),
+            scene::transform_norms<T>(m), math::determinant(m.linear) < 0, mesh.leaf};
 }
 
 template <typename T>

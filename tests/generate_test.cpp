@@ -267,7 +267,8 @@ TEST_P(PrimitiveFamily, GeneratedScenesRenderWithBothTracers) {
     // The floor is written first: leaf 0, objects[0].
     twinray::scene::Scene floor_only = scene;
     floor_only.objects.resize(1);
-    floor_only.leaf_paths.resize(1);
+    floor_only.leaf_paths.clear();
+    floor_only.leaf_paths.push_back(scene.leaf_paths[0]);
     floor_only.leaf_materials.resize(1);
     twinray::RenderOptions options;
     options.width = 40;

@@ -115,7 +115,7 @@ RayTree two_ray_tree() {
 
 scene::Scene one_sphere_scene() {
     scene::Scene scene;
-    scene.leaf_paths = {"objects[0]"};
+    scene.leaf_paths.push_back("objects[0]");
     scene.leaf_materials = {0};
     return scene;
 }

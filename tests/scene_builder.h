@@ -60,7 +60,7 @@ inline scene::Mesh mesh(std::vector<scene::Vec3> vertices, std::vector<std::arra
     data->smooth = !normals.empty();
     data->normals = std::move(normals);
     data->degenerate = scene::degenerate_triangles(*data);
-    return {std::move(data), material, -1, std::nullopt, -1};
+    return {std::move(data), material, -1, std::nullopt};
 }
 
 class SceneBuilder {

@@ -120,7 +120,7 @@ std::vector<Curvature> curvatures(const scene::Scene& scene) {
         // As a transformed primitive's curvature_radius: shrunk by the most the transform can bend it.
         const scene::Transform to_world = mesh.placement->transform();
         const double shrink = math::frobenius_norm(to_world.inverse);
-        radius = shape_radius[static_cast<std::size_t>(mesh.shape)] /
+        radius = shape_radius[static_cast<std::size_t>(mesh.placement->shape)] /
                  (shrink * shrink * math::frobenius_norm(to_world.linear));
     }
     return by_leaf;

@@ -51,7 +51,7 @@ scene::Scene mesh_scene(std::vector<Vec3> vertices, std::vector<Triangle> triang
     scene::Scene scene;
     scene.camera.eye = eye;
     scene.camera.look_at = eye + Vec3{0, 0, -1};
-    scene.meshes.push_back({std::move(data), 0, 0, std::nullopt, -1});
+    scene.meshes.push_back({std::move(data), 0, 0, std::nullopt});
     scene.leaf_paths.push_back("objects[0]");
     scene.leaf_materials.push_back(0);
     return scene;

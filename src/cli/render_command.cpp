@@ -141,7 +141,7 @@ void print_meshes(const scene::Scene& scene) {
     std::vector<std::size_t> instances(scene.mesh_shapes.size(), 0);
     for (const scene::Mesh& mesh : scene.meshes) {
         if (mesh.placement) {
-            ++instances[static_cast<std::size_t>(mesh.shape)];
+            ++instances[static_cast<std::size_t>(mesh.placement->shape)];
         } else {
             print_mesh("mesh:        ", scene.leaf_paths[static_cast<std::size_t>(mesh.leaf)], *mesh.data, "");
         }

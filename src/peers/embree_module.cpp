@@ -338,7 +338,7 @@ void* create(const scene::Scene& scene, std::vector<sse::Ray> rays, int width, i
     const std::vector<RTCScene> shapes = shape_scenes(s, scene);
     for (const scene::Mesh& mesh : scene.meshes) {
         if (mesh.placement) {
-            attach_instance(s, shapes[static_cast<std::size_t>(mesh.shape)], mesh.placement->transform());
+            attach_instance(s, shapes[static_cast<std::size_t>(mesh.placement->shape)], mesh.placement->transform());
         } else {
             add_mesh(s.device, s.scene, *mesh.data);
         }

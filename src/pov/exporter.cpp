@@ -312,7 +312,7 @@ private:
             line(0, "// " + scene_.leaf_name(mesh.leaf));
             if (mesh.placement) {
                 line(0, "object {");
-                line(1, shape_identifier(static_cast<std::size_t>(mesh.shape)));
+                line(1, shape_identifier(static_cast<std::size_t>(mesh.placement->shape)));
             } else {
                 line(0, "mesh2 {");
                 mesh_geometry(data);

@@ -61,7 +61,6 @@ public:
         scene_.leaf_paths.reserve(most_primitives);
         scene_.leaf_materials.reserve(most_primitives);
         ask_huge_pages(scene_.objects);
-        ask_huge_pages(scene_.leaf_paths);
         ask_huge_pages(scene_.leaf_materials);
     }
 

@@ -235,7 +235,7 @@ Scene flattened(const Scene& scene) {
         auto data = std::make_shared<MeshData>(*mesh.data);
         place(*data, mesh.placement->transform());
         data->degenerate = degenerate_triangles(*data);
-        mesh = Mesh{std::move(data), mesh.material, mesh.leaf, std::nullopt, -1};
+        mesh = Mesh{std::move(data), mesh.material, mesh.leaf, std::nullopt};
     }
     out.mesh_shapes.clear();
     return out;

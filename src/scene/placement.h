@@ -23,9 +23,9 @@ Transform rotation(const Vec3& axis, double degrees);
 Transform rotation_xyz(const Vec3& degrees);
 // L and t as a 3 × 4 matrix gives them; L invertible.
 Transform affine(const Matrix3& linear, const Vec3& offset);
-// What an instance holds of its transform (scene.h).
-inline Placement placement_of(const Transform& to_world) {
-    return {to_world.linear, to_world.translation};
+// What an instance of shape `shape` holds of its transform (scene.h).
+inline Placement placement_of(const Transform& to_world, int shape) {
+    return {to_world.linear, to_world.translation, shape};
 }
 // κ_F(L) = ‖L‖_F·‖L⁻¹‖_F (≥ the 2-norm condition number, at most 3 times it); +∞ for a singular L.
 double condition_number(const Transform& transform);

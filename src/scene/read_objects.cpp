@@ -361,7 +361,7 @@ public:
         scene_.leaf_paths.push_back(node.path());
         scene_.leaf_materials.push_back(own_material);
         scene_.meshes.push_back(
-            Mesh{mesh.data, own_material, leaf, placement_of(to_world ? *to_world : identity_transform()), shape.mesh});
+            Mesh{mesh.data, own_material, leaf, placement_of(to_world ? *to_world : identity_transform(), shape.mesh)});
         return Object{};
     }
 
@@ -382,7 +382,7 @@ public:
         const int leaf = static_cast<int>(scene_.leaf_paths.size());
         scene_.leaf_paths.push_back(node.path());
         scene_.leaf_materials.push_back(material);
-        scene_.meshes.push_back(Mesh{std::move(data), material, leaf, std::nullopt, -1});
+        scene_.meshes.push_back(Mesh{std::move(data), material, leaf, std::nullopt});
     }
 
 private:

@@ -72,12 +72,12 @@ const Mesh* Scene::mesh_of_leaf(int leaf) const {
 }
 
 std::string Scene::leaf_name(int leaf) const {
-    const std::string& path = leaf_paths[static_cast<std::size_t>(leaf)];
+    const std::string path = leaf_paths[static_cast<std::size_t>(leaf)];
     const Mesh* mesh = mesh_of_leaf(leaf);
     if (mesh == nullptr || !mesh->placement) {
         return path;
     }
-    return path + " (" + key_path("shapes", mesh_shapes[static_cast<std::size_t>(mesh->shape)].name) + ")";
+    return path + " (" + key_path("shapes", mesh_shapes[static_cast<std::size_t>(mesh->placement->shape)].name) + ")";
 }
 
 ImageSize resolve_image_size(const Scene& scene, int requested_width, int requested_height) {

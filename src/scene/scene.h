@@ -9,9 +9,12 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -146,11 +149,12 @@ struct MeshData {
 // A mesh is one leaf (one material, one path in leaf_paths); a hit on it names the leaf and the triangle.
 // Meshes are surfaces, not solids: they are never CSG children, and a ray crossing a mesh enters where it
 // meets a triangle's front (its geometric normal facing the ray) and leaves where it meets a back.
-// Where an instance puts its shape, x ↦ L·x + t. L's inverse is not held but found where it is needed, as the loader
-// finds it (math::inverse_of): 72 bytes an instance, 72 MB at a million instances.
+// Which shape an instance places and where, x ↦ L·x + t. L's inverse is not held but found where it is needed, as the
+// loader finds it (math::inverse_of): 72 bytes an instance, 72 MB at a million instances.
 struct Placement {
     math::Matrix3<double> linear;
     Vec3 translation;
+    int shape;  // index into Scene::mesh_shapes
 
     Transform transform() const { return {linear, math::inverse_of(linear), translation}; }
 };
@@ -163,7 +167,6 @@ struct Mesh {
     // and shared by every instance of it, and this places it in the world. Empty for a mesh written in `objects`,
     // whose vertices are world coordinates.
     std::optional<Placement> placement;
-    int shape = -1;  // an instance's: index into Scene::mesh_shapes
 };
 
 // A mesh declared once in `shapes` and placed by instances: its vertices in its own space. `material`: the one
@@ -172,6 +175,54 @@ struct MeshShape {
     std::string name;
     std::shared_ptr<const MeshData> data;
     int material = -1;
+};
+
+// Every leaf's path in one block of text, each ending where `ends` says: "objects[123456]" takes 19 bytes where a
+// std::string takes 32 (13 MB at a million instances).
+class LeafPaths {
+public:
+    void reserve(std::size_t leaves) { ends_.reserve(leaves); }
+    void push_back(std::string_view path) {
+        if (text_.size() + path.size() > std::numeric_limits<std::uint32_t>::max()) {
+            throw std::length_error("the scene's object paths take more than 4 GiB of text");
+        }
+        text_ += path;
+        ends_.push_back(static_cast<std::uint32_t>(text_.size()));
+    }
+    void clear() {
+        text_.clear();
+        ends_.clear();
+    }
+    std::size_t size() const { return ends_.size(); }
+    bool empty() const { return ends_.empty(); }
+    std::string_view view(std::size_t leaf) const {
+        const std::uint32_t begin = leaf == 0 ? 0 : ends_[leaf - 1];
+        return std::string_view(text_).substr(begin, ends_[leaf] - begin);
+    }
+    std::string operator[](std::size_t leaf) const { return std::string(view(leaf)); }
+    std::string at(std::size_t leaf) const {
+        if (leaf >= ends_.size()) {
+            throw std::out_of_range("no leaf " + std::to_string(leaf));
+        }
+        return (*this)[leaf];
+    }
+    std::string front() const { return (*this)[0]; }
+    std::string back() const { return (*this)[ends_.size() - 1]; }
+    bool operator==(const std::vector<std::string>& paths) const {
+        if (paths.size() != size()) {
+            return false;
+        }
+        for (std::size_t leaf = 0; leaf < paths.size(); ++leaf) {
+            if (paths[leaf] != view(leaf)) {
+                return false;
+            }
+        }
+        return true;
+    }
+
+private:
+    std::string text_;
+    std::vector<std::uint32_t> ends_;
 };
 
 struct Scene {
@@ -195,7 +246,7 @@ struct Scene {
     // The mesh shapes that instances place (Mesh::shape): each counted towards the primitive limit once.
     std::vector<MeshShape> mesh_shapes;
     // The stable id of every primitive: its index path in the file, e.g. "objects[4].children[1]".
-    std::vector<std::string> leaf_paths;
+    LeafPaths leaf_paths;
 
     bool has_csg() const;
     bool has_meshes() const { return !meshes.empty(); }

@@ -155,7 +155,7 @@ public:
                 add_mesh(out, mesh, any_smooth, bounded);
                 continue;
             }
-            const auto shape = static_cast<std::size_t>(mesh.shape);
+            const auto shape = static_cast<std::size_t>(mesh.placement->shape);
             bounded.push_back({scene::placed_bounds(shape_bounds[shape], mesh.placement->transform()),
                                {instance_list, instance_index++}});
             bounded_cost += transformed_trip_cost + shape_costs[shape];
@@ -314,7 +314,7 @@ private:
             }
             const scene::Transform to_world = mesh.placement->transform();
             out.instances.push_back({math::Transform<float>::from(to_world), scene::transform_norms<float>(to_world),
-                                     static_cast<std::uint32_t>(mesh.shape), mesh.leaf, mesh.material,
+                                     static_cast<std::uint32_t>(mesh.placement->shape), mesh.leaf, mesh.material,
                                      math::determinant(to_world.linear) < 0});
         }
     }
@@ -417,8 +417,8 @@ scene::Vec3 origin_of(const scene::Scene& scene) {
     }
     for (const scene::Mesh& mesh : scene.meshes) {
         if (mesh.placement) {
-            const double reach =
-                math::row_sum_norm(mesh.placement->linear) * shape_extents[static_cast<std::size_t>(mesh.shape)];
+            const double reach = math::row_sum_norm(mesh.placement->linear) *
+                                 shape_extents[static_cast<std::size_t>(mesh.placement->shape)];
             around_world_origin =
                 std::max(around_world_origin, scene::largest_coordinate(mesh.placement->translation) + reach);
             around_eye = std::max(around_eye, scene::largest_coordinate(mesh.placement->translation - eye) + reach);

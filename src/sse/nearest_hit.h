@@ -34,7 +34,9 @@ struct Nearest4 {
     // shape's), and its index in its mesh, which breaks ties within the mesh.
     vint4 place{-1};
     vint4 triangle{-1};
-    vint4 instance{-1};  // an instance's hit: its index in CompiledScene::instances; else -1
+    // An instance's hit: its index in CompiledScene::instances; -1 for a mesh's triangle, and left stale where a
+    // primitive's crossing (keep_nearest, which spends nothing on it) replaced it: the record's leaf tells.
+    vint4 instance{-1};
 };
 
 // A primitive's first crossing after t = 0 is its enter if that lies ahead, else its exit. Smaller t
@@ -471,7 +473,8 @@ private:
             LaneSurface surface;
             if ((lanes >> lane) & 1) {
                 Vec3 lane_point{point[0][lane], point[1][lane], point[2][lane]};
-                if (instance[lane] >= 0) {
+                if (instance[lane] >= 0 &&
+                    scene_.instances[static_cast<std::size_t>(instance[lane])].leaf == leaf[lane]) {
                     const InstanceRecord& record = scene_.instances[static_cast<std::size_t>(instance[lane])];
                     const auto at = static_cast<std::uint32_t>(place[lane]);
                     const CompiledShape& shape = scene_.shapes[record.shape];
