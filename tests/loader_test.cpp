@@ -892,6 +892,34 @@ TEST(ResolveImageSize, ScaledSideBeyond16384IsRefused) {
     EXPECT_THROW(resolve_image_size(scene_of_size(1, 16384), 2, 0), std::invalid_argument);
 }
 
+// Top-level elements' paths are held as their index alone; every other path, and every spelling of an index the
+// loader never writes, as text: each comes back as it went in.
+TEST(LeafPaths, EveryPathComesBackAsItWasGivenWhetherHeldAsAnIndexOrAsText) {
+    const std::vector<std::string> paths{"objects[0]",
+                                         "objects[7]",
+                                         "objects[2147483647]",
+                                         "objects[2147483648]",
+                                         "objects[01]",
+                                         "objects[-1]",
+                                         "objects[]",
+                                         "objects[12",
+                                         "objects[3].children[1]",
+                                         "objects[4] (shapes.tree)",
+                                         std::string("shapes.a\0b", 10),
+                                         ""};
+    LeafPaths held;
+    for (const std::string& path : paths) {
+        held.push_back(path);
+    }
+    ASSERT_EQ(held.size(), paths.size());
+    for (std::size_t leaf = 0; leaf < paths.size(); ++leaf) {
+        EXPECT_EQ(held[leaf], paths[leaf]) << "leaf " << leaf;
+    }
+    EXPECT_TRUE(held == paths);
+    EXPECT_EQ(held.back(), "");
+    EXPECT_THROW(static_cast<void>(held.at(paths.size())), std::out_of_range);
+}
+
 // The bench's generated scenes (twinray bench --scaling): as many spheres as asked, numbered as the
 // loader numbers leaves, inside the cube, the same again for the same seed and another for another.
 TEST(SphereField, HasTheAskedSpheresNumberedAsLoadedAndIsTheSameForTheSameSeed) {

@@ -3,9 +3,13 @@
 #include "scene/refusal.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace twinray::scene {
 
@@ -69,6 +73,79 @@ const Mesh* Scene::mesh_of_leaf(int leaf) const {
     const auto found = std::lower_bound(meshes.begin(), meshes.end(), leaf,
                                         [](const Mesh& mesh, int wanted) { return mesh.leaf < wanted; });
     return found != meshes.end() && found->leaf == leaf ? &*found : nullptr;
+}
+
+namespace {
+
+constexpr std::string_view element_prefix = "objects[";
+
+// k where `path` is "objects[k]" with k written as the loader writes an index (no sign, no leading zero) and below
+// 2^31; else nothing.
+std::optional<std::uint32_t> element_index(std::string_view path) {
+    if (!path.starts_with(element_prefix) || !path.ends_with(']')) {
+        return std::nullopt;
+    }
+    const std::string_view digits = path.substr(element_prefix.size(), path.size() - element_prefix.size() - 1);
+    if (digits.empty() || (digits.size() > 1 && digits.front() == '0') ||
+        !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+        return std::nullopt;
+    }
+    std::uint32_t index = 0;
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), index);
+    if (error != std::errc{} || end != digits.data() + digits.size() || index >= (std::uint32_t{1} << 31)) {
+        return std::nullopt;
+    }
+    return index;
+}
+
+}  // namespace
+
+void LeafPaths::push_back(std::string_view path) {
+    if (const std::optional<std::uint32_t> index = element_index(path)) {
+        entries_.push_back(element_flag | *index);
+        return;
+    }
+    if (text_.size() + sizeof(std::uint32_t) + path.size() >= element_flag) {
+        throw std::length_error("the scene's object paths take more than 2 GiB of text");
+    }
+    entries_.push_back(static_cast<std::uint32_t>(text_.size()));
+    const auto length = static_cast<std::uint32_t>(path.size());
+    text_.append(reinterpret_cast<const char*>(&length), sizeof length);
+    text_ += path;
+}
+
+void LeafPaths::clear() {
+    text_.clear();
+    entries_.clear();
+}
+
+std::string LeafPaths::operator[](std::size_t leaf) const {
+    const std::uint32_t entry = entries_[leaf];
+    if ((entry & element_flag) != 0) {
+        return std::string(element_prefix) + std::to_string(entry & ~element_flag) + "]";
+    }
+    std::uint32_t length = 0;
+    std::memcpy(&length, text_.data() + entry, sizeof length);
+    return text_.substr(entry + sizeof length, length);
+}
+
+std::string LeafPaths::at(std::size_t leaf) const {
+    if (leaf >= entries_.size()) {
+        throw std::out_of_range("no leaf " + std::to_string(leaf) + " among " + std::to_string(entries_.size()));
+    }
+    return (*this)[leaf];
+}
+
+bool LeafPaths::operator==(const std::vector<std::string>& paths) const {
+    if (paths.size() != size()) {
+        return false;
+    }
+    for (std::size_t leaf = 0; leaf < paths.size(); ++leaf) {
+        if (paths[leaf] != (*this)[leaf]) {
+            return false;
+        }
+    }
+    return true;
 }
 
 std::string Scene::leaf_name(int leaf) const {

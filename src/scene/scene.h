@@ -9,10 +9,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -177,52 +175,26 @@ struct MeshShape {
     int material = -1;
 };
 
-// Every leaf's path in one block of text, each ending where `ends` says: "objects[123456]" takes 19 bytes where a
-// std::string takes 32 (13 MB at a million instances).
+// Every leaf's path: a top-level element's, "objects[k]" as the loader writes it, in 4 bytes (k alone), any other in
+// a block of text (its length, then its bytes; the 4 bytes its place there). A million instances' paths take 4 MB
+// where a std::string each took 32.
 class LeafPaths {
 public:
-    void reserve(std::size_t leaves) { ends_.reserve(leaves); }
-    void push_back(std::string_view path) {
-        if (text_.size() + path.size() > std::numeric_limits<std::uint32_t>::max()) {
-            throw std::length_error("the scene's object paths take more than 4 GiB of text");
-        }
-        text_ += path;
-        ends_.push_back(static_cast<std::uint32_t>(text_.size()));
-    }
-    void clear() {
-        text_.clear();
-        ends_.clear();
-    }
-    std::size_t size() const { return ends_.size(); }
-    bool empty() const { return ends_.empty(); }
-    std::string_view view(std::size_t leaf) const {
-        const std::uint32_t begin = leaf == 0 ? 0 : ends_[leaf - 1];
-        return std::string_view(text_).substr(begin, ends_[leaf] - begin);
-    }
-    std::string operator[](std::size_t leaf) const { return std::string(view(leaf)); }
-    std::string at(std::size_t leaf) const {
-        if (leaf >= ends_.size()) {
-            throw std::out_of_range("no leaf " + std::to_string(leaf));
-        }
-        return (*this)[leaf];
-    }
+    void reserve(std::size_t leaves) { entries_.reserve(leaves); }
+    void push_back(std::string_view path);
+    void clear();
+    std::size_t size() const { return entries_.size(); }
+    bool empty() const { return entries_.empty(); }
+    std::string operator[](std::size_t leaf) const;
+    std::string at(std::size_t leaf) const;  // throws std::out_of_range past the last leaf
     std::string front() const { return (*this)[0]; }
-    std::string back() const { return (*this)[ends_.size() - 1]; }
-    bool operator==(const std::vector<std::string>& paths) const {
-        if (paths.size() != size()) {
-            return false;
-        }
-        for (std::size_t leaf = 0; leaf < paths.size(); ++leaf) {
-            if (paths[leaf] != view(leaf)) {
-                return false;
-            }
-        }
-        return true;
-    }
+    std::string back() const { return (*this)[entries_.size() - 1]; }
+    bool operator==(const std::vector<std::string>& paths) const;
 
 private:
+    static constexpr std::uint32_t element_flag = std::uint32_t{1} << 31;
     std::string text_;
-    std::vector<std::uint32_t> ends_;
+    std::vector<std::uint32_t> entries_;  // element_flag | k, or the path's place in text_
 };
 
 struct Scene {
