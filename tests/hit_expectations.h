@@ -1,6 +1,7 @@
 // Hand-solved first hits, shared by the intersection and CSG tests, run against every tracer:
-// reference<double>, reference<float>, and the SSE tracer exact and with each knob combination it is built
-// for. Each tracer is held to the tolerance its precision earns (hit_tolerance below); a hit is checked
+// reference<double>, reference<float>, the SSE tracer exact and with each knob combination it is built
+// for, and the C example behind the tracer ABI (examples/brute_force_tracer.c, through plugin/plugin.h), on the
+// scenes whose kinds it intersects. Each tracer is held to the tolerance its precision earns (hit_tolerance below); a hit is checked
 // together with the invariants every hit has.
 //
 // A suite is declared with TWINRAY_HIT_EXPECTATION_SUITE(Name), which instantiates its TEST_Ps once per
@@ -8,6 +9,7 @@
 // EXPECT_HIT and EXPECT_MISS ask the tracer of the test.
 #pragma once
 
+#include "plugin/plugin.h"
 #include "reference/tracer.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
@@ -38,7 +40,7 @@ struct Expected {
     int triangle = -1;  // on a mesh, the triangle hit
 };
 
-enum class TracerKind { reference_double, reference_float, sse };
+enum class TracerKind { reference_double, reference_float, sse, plugin };
 
 // S, the expectations' size scale: every ray below starts within |o|∞ ≤ 20 and hits at t ≤ 20, on objects
 // no larger than 4, and |o|∞ + t + 4 ≤ S is checked for every expected hit.
@@ -57,9 +59,11 @@ constexpr double size_scale = 32;
 // - textbook, K + 32: b² − a·c cancels where the ray passes far from a sphere's centre or a cylinder's axis:
 //   rounded within γ(3)·|f|² (f from the centre to the origin), it moves t by γ(3)·|f|²/(2·√Δ). The worst
 //   below is the sphere met 19 away on a chord of half-length √Δ = 1: 3·u·20²/2 = 600·u ≈ 19·u·S.
-inline double hit_tolerance(TracerKind kind, const sse::Precision& precision) {
-    double u = kind == TracerKind::reference_double ? std::numeric_limits<double>::epsilon() / 2
-                                                    : std::numeric_limits<float>::epsilon() / 2;
+// - a plug-in, K = 16 with the unit roundoff it states.
+inline double hit_tolerance(TracerKind kind, const sse::Precision& precision, double plugin_unit_roundoff = 0) {
+    double u = kind == TracerKind::plugin             ? plugin_unit_roundoff
+               : kind == TracerKind::reference_double ? std::numeric_limits<double>::epsilon() / 2
+                                                      : std::numeric_limits<float>::epsilon() / 2;
     double roundings = 16;
     if (kind == TracerKind::sse) {
         roundings +=
@@ -95,7 +99,14 @@ inline std::string camel_case(const std::string& knobs) {
     return name;
 }
 
-// Both references, then the SSE tracer with every combination of its knobs that precision_is_built.
+// The C example behind the tracer ABI, loaded once.
+inline const plugin::Plugin& example_plugin() {
+    static const plugin::Plugin example(TWINRAY_EXAMPLE_TRACER);
+    return example;
+}
+
+// Both references, the SSE tracer with every combination of its knobs that precision_is_built, then the C
+// example through the ABI.
 inline std::vector<TracerUnderTest> every_tracer() {
     std::vector<TracerUnderTest> tracers;
     for (TracerKind kind : {TracerKind::reference_double, TracerKind::reference_float}) {
@@ -106,6 +117,10 @@ inline std::vector<TracerUnderTest> every_tracer() {
         tracers.push_back({TracerKind::sse, precision, "Sse" + camel_case(sse::precision_name(precision)),
                            hit_tolerance(TracerKind::sse, precision)});
     }
+    tracers.push_back({TracerKind::plugin,
+                       {},
+                       "PluginBruteForceExample",
+                       hit_tolerance(TracerKind::plugin, {}, example_plugin().unit_roundoff())});
     return tracers;
 }
 
@@ -148,6 +163,22 @@ inline std::optional<reference::Hit<double>> first_hit(const TracerUnderTest& tr
             auto hit = sse::Tracer(scene, tracer.precision).intersect({origin, sse::Vec3(unit)});
             return hit ? std::optional(widened(*hit)) : std::nullopt;
         }
+        case TracerKind::plugin: {
+            plugin::Hit hit = plugin::BuiltScene(example_plugin(), scene)
+                                  .nearest(origin, unit, 0, std::numeric_limits<double>::infinity());
+            if (!hit.hit) {
+                return std::nullopt;
+            }
+            reference::Hit<double> found;
+            found.t = hit.t;
+            found.point = origin + unit * hit.t;
+            found.normal = reference::dot(hit.normal, unit) > 0 ? -hit.normal : hit.normal;
+            found.shading_normal = found.normal;
+            found.leaf = hit.leaf;
+            found.triangle = hit.triangle;
+            found.entering = hit.entering;
+            return found;
+        }
     }
     return std::nullopt;
 }
@@ -172,6 +203,20 @@ protected:
 
     double tolerance() const { return GetParam().tolerance; }
 
+    // Skips the test where the tracer under test is a plug-in lacking a kind the scene holds.
+    bool tracer_lacks_a_kind_of(const scene::Scene& scene) {
+        if (GetParam().kind != TracerKind::plugin) {
+            return false;
+        }
+        std::vector<std::string> missing = plugin::missing_kinds(scene, example_plugin().table().kinds);
+        if (missing.empty()) {
+            return false;
+        }
+        skip_for_lack_of(missing.front());
+        return true;
+    }
+    void skip_for_lack_of(const std::string& kind) { GTEST_SKIP() << "the plug-in does not intersect a " << kind; }
+
     std::optional<reference::Hit<double>> first_hit(const scene::Scene& scene, V origin, V direction) const {
         return twinray::test::first_hit(GetParam(), scene, origin, direction);
     }
@@ -181,6 +226,9 @@ protected:
     void expect_hit(const scene::Scene& scene, V origin, V direction, const Expected& expected) {
         ASSERT_LE(reference::max_abs_component(origin) + expected.t + 4, size_scale)
             << "the tolerance assumes this scale";
+        if (tracer_lacks_a_kind_of(scene)) {
+            return;
+        }
         std::optional<reference::Hit<double>> hit = first_hit(scene, origin, direction);
         ASSERT_TRUE(hit.has_value()) << "expected a hit at t = " << expected.t;
         double limit = tolerance();
@@ -199,6 +247,9 @@ protected:
     }
 
     void expect_miss(const scene::Scene& scene, V origin, V direction) {
+        if (tracer_lacks_a_kind_of(scene)) {
+            return;
+        }
         std::optional<reference::Hit<double>> hit = first_hit(scene, origin, direction);
         EXPECT_FALSE(hit.has_value()) << "hit at t = " << hit->t << ", leaf " << hit->leaf;
     }

@@ -2,6 +2,7 @@
 # `cmake --install` gives a prefix that works wherever it is moved: the installed twinray finds its modules and
 # the mesh reader it runs in lib/twinray/ beside bin/, never in the build tree (io/shared_module.h). Each load
 # and each exec is read from the dynamic loader's own log (LD_DEBUG=files, which the mesh reader inherits).
+# The C example of the tracer ABI builds against the moved prefix too.
 # Usage: installed_prefix_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build="$(cd "$1" && pwd)"
@@ -44,6 +45,16 @@ fi
 if grep -q "$build" <<<"$loads"; then
   echo "the installed twinray used the build tree:"
   grep "$build" <<<"$loads"
+  status=1
+fi
+# A plug-in builds against the moved prefix alone (find_package(twinray), docs/plugins.md) and exports the entry.
+if ! cmake -S "$source_dir/examples" -B "$work/example" -DCMAKE_PREFIX_PATH="$work/moved" >"$work/example.log" 2>&1 ||
+  ! cmake --build "$work/example" >>"$work/example.log" 2>&1; then
+  echo "the C example did not build against the moved prefix:"
+  cat "$work/example.log"
+  status=1
+elif ! nm -D "$work/example/libbrute_force_tracer.so" | grep -q ' T twinray_tracer_entry$'; then
+  echo "the C example built against the moved prefix exports no twinray_tracer_entry"
   status=1
 fi
 [ "$status" -eq 0 ] && echo "installed prefix, moved: $(wc -l <<<"$loads") loads, all from the prefix"

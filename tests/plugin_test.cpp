@@ -1,0 +1,206 @@
+// The tracer ABI (include/twinray/tracer.h) from twinray's side: the scene reaches a plug-in whole, a kind it
+// lacks is refused by name, its hits come back as the oracle's, and every way of breaking the contract is
+// reported with the ray that shows it (tests/plugins/faulty_tracer.c).
+#include "plugin/plugin.h"
+#include "reference/tracer.h"
+#include "scene/loader.h"
+#include "scene/placement.h"
+#include "tests/scene_builder.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace twinray {
+namespace {
+
+constexpr double infinity = std::numeric_limits<double>::infinity();
+
+const plugin::Plugin& example() {
+    static const plugin::Plugin loaded(TWINRAY_EXAMPLE_TRACER);
+    return loaded;
+}
+
+scene::Scene two_spheres_and_a_square() {
+    test::SceneBuilder builder;
+    builder.object(test::sphere({0, 0, 0}, 1));
+    builder.object(test::sphere({4, 0, 0}, 1));
+    builder.add(test::mesh({{10, -1, -1}, {10, 1, -1}, {10, 1, 1}, {10, -1, 1}}, {{{0, 1, 2}}, {{0, 2, 3}}}));
+    return builder.build();
+}
+
+TEST(PluginAbi, TheExampleIntroducesItselfAsItsTableSays) {
+    EXPECT_EQ(example().name(), "brute force (C example)");
+    EXPECT_EQ(example().version(), "1.0");
+    EXPECT_EQ(example().unit_roundoff(), std::ldexp(1.0, -53));
+    EXPECT_TRUE(example().thread_safe());
+}
+
+// Along the x axis from x = -5: both spheres entered and left, then the square at x = 10, whose triangles run
+// counter-clockwise seen from +x: the ray meets their backs and leaves.
+TEST(PluginAbi, HitsAlongASegmentComeInOrderWithEachSurfacesEntryAndExit) {
+    const scene::Scene scene = two_spheres_and_a_square();
+    plugin::BuiltScene built(example(), scene);
+    const std::vector<plugin::Hit> hits = built.hits_along({-5, 0, 0.25}, {1, 0, 0}, 0, infinity);
+    ASSERT_EQ(hits.size(), 5u);
+    const double chord = std::sqrt(1 - 0.25 * 0.25);
+    const std::vector<double> t{5 - chord, 5 + chord, 9 - chord, 9 + chord, 15};
+    const std::vector<int> leaf{0, 0, 1, 1, 2};
+    const std::vector<bool> entering{true, false, true, false, false};
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        SCOPED_TRACE("hit " + std::to_string(i));
+        EXPECT_NEAR(hits[i].t, t[i], 1e-14);
+        EXPECT_EQ(hits[i].leaf, leaf[i]);
+        EXPECT_EQ(hits[i].entering, entering[i]);
+        EXPECT_EQ(hits[i].instance, -1);
+    }
+    EXPECT_EQ(hits[4].triangle, 1) << "(10, 0, 0.25) lies above the diagonal from (-1, -1) to (1, 1)";
+    EXPECT_NEAR(hits[4].normal.x, 1, 1e-15);
+    // The segment's end cuts the list: the second sphere's exit at 9 + chord is left out.
+    EXPECT_EQ(built.hits_along({-5, 0, 0.25}, {1, 0, 0}, 0, 9).size(), 3u);
+    EXPECT_EQ(built.nearest({-5, 0, 0.25}, {1, 0, 0}, 6, infinity).leaf, 1);
+}
+
+// The barycentrics the ABI returns locate the hit on its triangle: (1 - u - v) a + u b + v c.
+TEST(PluginAbi, ATrianglesBarycentricsLocateItsHit) {
+    const scene::Scene scene = two_spheres_and_a_square();
+    plugin::BuiltScene built(example(), scene);
+    const plugin::Hit hit = built.nearest({20, 0.5, -0.25}, {-1, 0, 0}, 0, infinity);
+    ASSERT_TRUE(hit.hit);
+    ASSERT_EQ(hit.triangle, 0);
+    // Triangle 0: a = (10, -1, -1), b = (10, 1, -1), c = (10, 1, 1): y = -1 + 2u + 2v, z = -1 + 2v.
+    EXPECT_NEAR(hit.v, 0.375, 1e-15);
+    EXPECT_NEAR(hit.u, 0.75 - 0.375, 1e-15);
+    EXPECT_TRUE(hit.entering);
+}
+
+TEST(PluginAbi, ASceneWithAKindTheTracerLacksIsRefusedNamingTheKind) {
+    auto refused_kind = [](scene::Object object) {
+        test::SceneBuilder builder;
+        builder.object(test::sphere({0, 0, 0}, 1));
+        builder.object(std::move(object));
+        const scene::Scene scene = builder.build();
+        try {
+            plugin::BuiltScene built(example(), scene);
+        } catch (const plugin::UnsupportedKind& refusal) {
+            EXPECT_NE(std::string(refusal.what()).find("brute force (C example)"), std::string::npos) << refusal.what();
+            return refusal.kind();
+        }
+        return std::string("(accepted)");
+    };
+    EXPECT_EQ(refused_kind(test::plane({0, 1, 0}, -1)), "plane");
+    EXPECT_EQ(refused_kind(test::cylinder({0, 0, 0}, {0, 1, 0}, 1)), "cylinder");
+    EXPECT_EQ(refused_kind(test::box({0, 0, 0}, {1, 1, 1})), "box");
+    EXPECT_EQ(refused_kind(test::placed(test::sphere({0, 0, 0}, 1), scene::scaling({1, 2, 3}))),
+              "transformed primitive");
+    EXPECT_EQ(refused_kind(test::csg(scene::CsgOp::union_, {test::sphere({0, 0, 0}, 1), test::sphere({1, 0, 0}, 1)})),
+              "csg");
+    const std::vector<std::string> missing =
+        plugin::missing_kinds(scene::load_scene(TWINRAY_SOURCE_DIR "/scenes/instances.json"), example().table().kinds);
+    EXPECT_NE(std::find(missing.begin(), missing.end(), "instances"), missing.end());
+}
+
+// Every pixel's primary ray of scenes/spheres.json: the same object hit or missed as by reference<double>, at a t
+// within 64 unit roundoffs of |o|∞ + t (both in double, each with its own rounding of the quadratic).
+TEST(PluginAbi, TheExampleAgreesWithTheOracleOnEveryPrimaryRayOfTheSpheresScene) {
+    const scene::Scene scene = scene::load_scene(TWINRAY_SOURCE_DIR "/scenes/spheres.json");
+    const reference::Tracer<double> oracle(scene);
+    plugin::BuiltScene built(example(), scene);
+    const int width = 80, height = 60;
+    std::vector<twinray_ray> rays;
+    std::vector<std::optional<reference::Hit<double>>> expected;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const reference::Ray<double> ray = oracle.primary_ray(x, y, width, height);
+            twinray_ray flat{{ray.origin.x, ray.origin.y, ray.origin.z},
+                             {ray.direction.x, ray.direction.y, ray.direction.z},
+                             0,
+                             infinity};
+            rays.push_back(flat);
+            expected.push_back(oracle.intersect(ray));
+        }
+    }
+    std::vector<plugin::Hit> hits(rays.size());
+    built.intersect(rays, hits);
+    double worst = 0;
+    int hit_count = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        SCOPED_TRACE("pixel " + std::to_string(i));
+        ASSERT_EQ(hits[i].hit, expected[i].has_value());
+        if (!hits[i].hit) {
+            continue;
+        }
+        ++hit_count;
+        ASSERT_EQ(hits[i].leaf, expected[i]->leaf);
+        const double scale =
+            std::max({std::fabs(rays[i].origin[0]), std::fabs(rays[i].origin[1]), std::fabs(rays[i].origin[2])}) +
+            expected[i]->t;
+        worst = std::max(worst, std::fabs(hits[i].t - expected[i]->t) / (scale * example().unit_roundoff()));
+    }
+    EXPECT_GT(hit_count, width * height / 10);
+    EXPECT_LE(worst, 64) << "worst t error, in unit roundoffs of |o| + t";
+    RecordProperty("worst_t_error_in_unit_roundoffs", std::to_string(worst));
+}
+
+// One way to break the contract per library (tests/plugins/faulty_tracer.c), and what twinray says of it.
+struct Fault {
+    std::string name;     // the library: libfaulty_tracer_NAME.so
+    std::string stage;    // where it shows: "load", "build", "nearest", "hits_along", or "none"
+    std::string message;  // a part of the verdict
+};
+
+void PrintTo(const Fault& fault, std::ostream* out) {
+    *out << fault.name;
+}
+
+class BadPlugin : public ::testing::TestWithParam<Fault> {};
+
+TEST_P(BadPlugin, IsReportedWithWhatItBrokeAndTheRayThatShowsIt) {
+    const Fault& fault = GetParam();
+    const std::string path = std::string(TWINRAY_FAULTY_TRACER_DIR) + "/libfaulty_tracer_" + fault.name + ".so";
+    test::SceneBuilder builder;
+    builder.object(test::sphere({0, 0, 0}, 1));
+    const scene::Scene scene = builder.build();
+    std::string stage = "none", message;
+    try {
+        stage = "load";
+        plugin::Plugin loaded(path);
+        stage = "build";
+        plugin::BuiltScene built(loaded, scene);
+        stage = "nearest";
+        built.nearest({0, 0, 5}, {0, 0, -1}, 0, 10);
+        stage = "hits_along";
+        built.hits_along({0, 0, 5}, {0, 0, -1}, 0, 10);
+        stage = "none";
+    } catch (const plugin::PluginUnusable& unusable) {
+        message = unusable.what();
+        EXPECT_TRUE(stage == "load" || stage == "build") << stage << ": " << message;
+    } catch (const plugin::PluginFault& wrong) {
+        message = wrong.what();
+        EXPECT_NE(message.find("for the ray from (0, 0, 5) along (0, 0, -1), t in (0, 10)"), std::string::npos)
+            << message;
+    }
+    EXPECT_EQ(stage, fault.stage) << message;
+    EXPECT_NE(message.find(fault.message), std::string::npos) << message;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryFault, BadPlugin,
+    ::testing::Values(Fault{"none", "none", ""}, Fault{"no_entry", "load", "exports no twinray_tracer_entry"},
+                      Fault{"other_version", "load", "speaks the tracer ABI version 2; this twinray speaks version 1"},
+                      Fault{"build_fails", "build", "could not build the scene: no room for the scene"},
+                      Fault{"nan_t", "nearest", "returned t = nan, outside the ray's range"},
+                      Fault{"negative_t", "nearest", "returned t = -1, outside the ray's range"},
+                      Fault{"t_beyond_range", "nearest", "returned t = 1.0000000000000001e+300, outside"},
+                      Fault{"wrong_count", "nearest", "wrote 0 hits for a batch of 1 rays"},
+                      Fault{"unknown_object", "nearest", "returned object 1000 of 1"},
+                      Fault{"hits_out_of_order", "hits_along", "out of order (t = 2"},
+                      Fault{"call_fails", "nearest", "failed (status 3: the device was lost)"}),
+    [](const ::testing::TestParamInfo<Fault>& fault) { return fault.param.name; });
+
+}  // namespace
+}  // namespace twinray
