@@ -127,14 +127,15 @@ int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const Ray<T>&
 }  // namespace
 
 template <typename T>
-Tracer<T>::Tracer(const scene::Scene& scene, Accel accel)
+Tracer<T>::Tracer(const scene::Scene& scene, Accel accel, const ExternalIntersector<T>* external)
     : camera_(math::camera_basis(Vec3<T>(scene.camera.eye), Vec3<T>(scene.camera.look_at), Vec3<T>(scene.camera.up),
                                  scene.camera.fov_deg, [](Vec3<T> v) { return normalize(v); })),
       background_(scene.background),
       ambient_light_(scene.ambient_light),
       max_depth_(scene.max_depth),
       depth_control_(scene),
-      leaf_materials_(scene.leaf_materials) {
+      leaf_materials_(scene.leaf_materials),
+      external_(external) {
     for (const scene::Material& material : scene.materials) {
         materials_.push_back(convert<T>(material));
     }
@@ -220,6 +221,9 @@ std::optional<Hit<T>> Tracer<T>::intersect(const Ray<T>& ray) const {
 // point is re-projected onto its primitive, which also gives the offset its secondary rays start at.
 template <typename T>
 std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
+    if (external_ != nullptr) {
+        return external_hit(ray);
+    }
     std::optional<Hit<T>> nearest;
     auto limit = [&] { return nearest ? nearest->t : std::numeric_limits<T>::infinity(); };
     for_each_candidate(ray, limit, [&](std::size_t object) {
@@ -270,28 +274,58 @@ std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
             hit_instance = &instance;
         }
     });
-    if (!nearest) {
-        return nearest;
+    if (nearest) {
+        project_onto_surface(*nearest, hit_mesh, hit_instance);
     }
-    const auto triangle = static_cast<std::uint32_t>(nearest->triangle);
-    SurfacePoint<T> on_surface;
-    if (hit_instance != nullptr) {
-        const MeshShape<T>& shape = mesh_shapes_[hit_instance->shape];
-        on_surface = surface_point(*hit_instance, shape, triangle, nearest->point);
-        nearest->point = on_surface.point;
-        nearest->shading_normal = shading_normal(*hit_instance, shape, triangle, nearest->point, nearest->normal);
-    } else if (hit_mesh != nullptr) {
-        on_surface = surface_point(*hit_mesh, triangle, nearest->point, nearest->normal);
-        nearest->point = on_surface.point;
-        nearest->shading_normal = shading_normal(*hit_mesh, triangle, nearest->point, nearest->normal);
-    } else {
-        on_surface =
-            std::visit([&](const auto& shape) { return surface_point(shape, nearest->point, nearest->normal); },
-                       leaf_shapes_[static_cast<std::size_t>(nearest->leaf)]);
-        nearest->point = on_surface.point;
-    }
-    nearest->spawn_offset = on_surface.spawn_offset;
     return nearest;
+}
+
+template <typename T>
+void Tracer<T>::project_onto_surface(Hit<T>& hit, const MeshShape<T>* mesh, const MeshInstance<T>* instance) const {
+    const auto triangle = static_cast<std::uint32_t>(hit.triangle);
+    SurfacePoint<T> on_surface;
+    if (instance != nullptr) {
+        const MeshShape<T>& shape = mesh_shapes_[instance->shape];
+        on_surface = surface_point(*instance, shape, triangle, hit.point);
+        hit.point = on_surface.point;
+        hit.shading_normal = shading_normal(*instance, shape, triangle, hit.point, hit.normal);
+    } else if (mesh != nullptr) {
+        on_surface = surface_point(*mesh, triangle, hit.point, hit.normal);
+        hit.point = on_surface.point;
+        hit.shading_normal = shading_normal(*mesh, triangle, hit.point, hit.normal);
+    } else {
+        on_surface = std::visit([&](const auto& shape) { return surface_point(shape, hit.point, hit.normal); },
+                                leaf_shapes_[static_cast<std::size_t>(hit.leaf)]);
+        hit.point = on_surface.point;
+    }
+    hit.spawn_offset = on_surface.spawn_offset;
+}
+
+// The hit keeps the intersector's point, so that its error is the intersector's; its secondary rays start off it by
+// its distance from the surface plus the reference's bound there, widened by the ratio of unit roundoffs (the
+// bound is linear in u), so that the intersector's own decision on which side a ray starts stays on the right one.
+template <typename T>
+std::optional<Hit<T>> Tracer<T>::external_hit(const Ray<T>& ray) const {
+    std::optional<ExternalCrossing<T>> crossing = external_->nearest(ray);
+    if (!crossing) {
+        return std::nullopt;
+    }
+    // Normalised again: the re-projection onto a curved surface needs it unit to T's precision, which the
+    // intersector's need not be (a sphere's (p - c) / r is as far from unit as p is from the surface).
+    const Vec3<T> outward = normalize(crossing->outward_normal);
+    Vec3<T> facing = dot(outward, ray.direction) > T(0) ? -outward : outward;
+    Hit<T> hit{crossing->t,        ray.at(crossing->t), facing, crossing->leaf,
+               crossing->triangle, crossing->entering,  T(0),   facing};
+    auto by_leaf = [](const auto& item, int leaf) { return item.leaf < leaf; };
+    auto mesh = std::lower_bound(meshes_.begin(), meshes_.end(), hit.leaf, by_leaf);
+    auto instance = std::lower_bound(instances_.begin(), instances_.end(), hit.leaf, by_leaf);
+    const Vec3<T> found = hit.point;
+    project_onto_surface(hit, mesh != meshes_.end() && mesh->leaf == hit.leaf ? &*mesh : nullptr,
+                         instance != instances_.end() && instance->leaf == hit.leaf ? &*instance : nullptr);
+    const T widening = std::max(T(1), external_->unit_roundoff() / (std::numeric_limits<T>::epsilon() / 2));
+    hit.spawn_offset = length(found - hit.point) + widening * hit.spawn_offset;
+    hit.point = found;
+    return hit;
 }
 
 template <typename T>
@@ -300,6 +334,18 @@ T Tracer<T>::shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const 
     T distance = length(to_light);
     Ray<T> ray{origin, to_light / distance};
     T transmittance = T(1);
+    if (external_ != nullptr) {
+        // Every surface crossed before the light, multiplied in leaf order (file order, as below).
+        std::vector<int> crossed;
+        for (const ExternalCrossing<T>& crossing : external_->crossings(ray, distance)) {
+            crossed.push_back(crossing.leaf);
+        }
+        std::sort(crossed.begin(), crossed.end());
+        for (int leaf : crossed) {
+            transmittance *= material_of(leaf).transmission;
+        }
+        return transmittance;
+    }
     // Multiplies in the transmission of each surface of the object crossed before the light; false once
     // nothing gets through.
     auto passes = [&](const Shape<T>& object) {
@@ -377,6 +423,12 @@ template <typename T>
 int Tracer<T>::mesh_crossings(const Ray<T>& ray, T distance) const {
     int count = 0;
     if (!is_traceable(ray)) {
+        return count;
+    }
+    if (external_ != nullptr) {
+        for (const ExternalCrossing<T>& crossing : external_->crossings(ray, distance)) {
+            count += crossing.triangle >= 0 ? 1 : 0;
+        }
         return count;
     }
     for (const MeshShape<T>& mesh : meshes_) {
@@ -517,9 +569,9 @@ Ray<T> Tracer<T>::primary_ray(int x, int y, int width, int height) const {
 }
 
 template <typename T>
-RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
+RenderResult render(const scene::Scene& scene, const RenderOptions& options, const ExternalIntersector<T>* external) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer<T> tracer(scene, options.accel);
+    Tracer<T> tracer(scene, options.accel, external);
     Image image(size.width, size.height);
     const auto start = std::chrono::steady_clock::now();
     const double cpu_start = process_cpu_seconds();
@@ -542,7 +594,7 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
 
 template class Tracer<double>;
 template class Tracer<float>;
-template RenderResult render<double>(const scene::Scene&, const RenderOptions&);
-template RenderResult render<float>(const scene::Scene&, const RenderOptions&);
+template RenderResult render<double>(const scene::Scene&, const RenderOptions&, const ExternalIntersector<double>*);
+template RenderResult render<float>(const scene::Scene&, const RenderOptions&, const ExternalIntersector<float>*);
 
 }  // namespace twinray::reference

@@ -7,6 +7,7 @@
 #include "reference/box.h"
 #include "reference/bvh.h"
 #include "reference/cylinder.h"
+#include "reference/external.h"
 #include "reference/plane.h"
 #include "reference/ray.h"
 #include "reference/sphere.h"
@@ -66,7 +67,10 @@ struct Light {
 template <typename T>
 class Tracer {
 public:
-    explicit Tracer(const scene::Scene& scene, Accel accel = Accel::automatic);
+    // With `external` (which must outlive the tracer), every ray's crossings are its (external.h); `accel` then
+    // applies to the reference's own structures only, which place its hits on their surfaces.
+    explicit Tracer(const scene::Scene& scene, Accel accel = Accel::automatic,
+                    const ExternalIntersector<T>* external = nullptr);
 
     // The first surface along the ray with t > 0; a miss for a ray that is not is_traceable (ray.h).
     std::optional<Hit<T>> intersect(const Ray<T>& ray) const;
@@ -105,6 +109,11 @@ private:
 
     // intersect() without the check of the ray: every ray the tracer makes itself is traceable.
     std::optional<Hit<T>> first_hit(const Ray<T>& ray) const;
+    // first_hit() from the external intersector's nearest crossing.
+    std::optional<Hit<T>> external_hit(const Ray<T>& ray) const;
+    // Moves hit.point onto the surface of its primitive (`mesh` or `instance` where it is one of theirs), with its
+    // spawn offset and, on a smooth mesh, its shading normal.
+    void project_onto_surface(Hit<T>& hit, const MeshShape<T>* mesh, const MeshInstance<T>* instance) const;
     // `transmittance` (the objects' product so far) times that of every mesh triangle the ray crosses before
     // `distance`.
     T meshes_transmittance(const Ray<T>& ray, T distance, T transmittance) const;
@@ -134,6 +143,7 @@ private:
     std::vector<MeshShape<T>> mesh_shapes_;
     std::vector<MeshInstance<T>> instances_;
     ObjectBvh<T> instance_bvh_;
+    const ExternalIntersector<T>* external_ = nullptr;
 
     // Calls visit(instance, object ray, crossing) for every triangle of every instance the ray meets with t in
     // (0, limit()], as for_each_crossing does (in no particular order).
@@ -146,12 +156,16 @@ private:
     void for_each_candidate(const Ray<T>& ray, Limit&& limit, Visit&& visit) const;
 };
 
+// With `external`, every ray's crossings are its (external.h).
 template <typename T>
-RenderResult render(const scene::Scene& scene, const RenderOptions& options);
+RenderResult render(const scene::Scene& scene, const RenderOptions& options,
+                    const ExternalIntersector<T>* external = nullptr);
 
 extern template class Tracer<double>;
 extern template class Tracer<float>;
-extern template RenderResult render<double>(const scene::Scene&, const RenderOptions&);
-extern template RenderResult render<float>(const scene::Scene&, const RenderOptions&);
+extern template RenderResult render<double>(const scene::Scene&, const RenderOptions&,
+                                            const ExternalIntersector<double>*);
+extern template RenderResult render<float>(const scene::Scene&, const RenderOptions&,
+                                           const ExternalIntersector<float>*);
 
 }  // namespace twinray::reference

@@ -34,7 +34,8 @@ struct NamedRenderer {
 };
 
 std::vector<NamedRenderer> renderers() {
-    std::vector<NamedRenderer> all = {{"reference", reference::render<double>}};
+    std::vector<NamedRenderer> all = {
+        {"reference", [](const scene::Scene& s, const RenderOptions& o) { return reference::render<double>(s, o); }}};
     if (sse::cpu_supports_sse41()) {
         all.push_back({"sse", [](const scene::Scene& s, const RenderOptions& o) { return sse::render(s, o); }});
     }

@@ -2,9 +2,11 @@
 // lacks is refused by name, its hits come back as the oracle's, and every way of breaking the contract is
 // reported with the ray that shows it (tests/plugins/faulty_tracer.c).
 #include "plugin/plugin.h"
+#include "plugin/plugin_intersector.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
 #include "scene/placement.h"
+#include "tests/run_twinray.h"
 #include "tests/scene_builder.h"
 
 #include <gtest/gtest.h>
@@ -144,6 +146,79 @@ TEST(PluginAbi, TheExampleAgreesWithTheOracleOnEveryPrimaryRayOfTheSpheresScene)
     EXPECT_GT(hit_count, width * height / 10);
     EXPECT_LE(worst, 64) << "worst t error, in unit roundoffs of |o| + t";
     RecordProperty("worst_t_error_in_unit_roundoffs", std::to_string(worst));
+}
+
+// The reference's shading over the example's hits: the oracle's image, to the bit on spheres (the same formula in
+// the same precision) and within one 8-bit level on a mesh lit through a sphere's shadow, where Moller-Trumbore's t
+// and the exact test's differ in their last bits.
+double worst_pixel_difference(const scene::Scene& scene) {
+    RenderOptions options;
+    options.width = 96;
+    options.height = 72;
+    options.threads = 2;
+    plugin::BuiltScene built(example(), scene);
+    plugin::PluginIntersector intersector(built);
+    const RenderResult oracle = reference::render<double>(scene, options);
+    const RenderResult judged = reference::render<double>(scene, options, &intersector);
+    EXPECT_EQ(judged.tally.rays, oracle.tally.rays) << "the same rays traced, shadow rays included";
+    double worst = 0;
+    for (int y = 0; y < options.height; ++y) {
+        for (int x = 0; x < options.width; ++x) {
+            const auto& a = oracle.image.at(x, y);
+            const auto& b = judged.image.at(x, y);
+            worst = std::max(
+                {worst, std::fabs(double(a.r) - b.r), std::fabs(double(a.g) - b.g), std::fabs(double(a.b) - b.b)});
+        }
+    }
+    return worst;
+}
+
+TEST(PluginRender, TheExamplesImageOfTheSpheresSceneIsTheOraclesBitForBit) {
+    EXPECT_EQ(worst_pixel_difference(scene::load_scene(TWINRAY_SOURCE_DIR "/scenes/spheres.json")), 0);
+}
+
+TEST(PluginRender, TheExamplesImageOfAMeshUnderASphereIsTheOraclesWithinOneLevel) {
+    test::SceneBuilder builder;
+    builder.scene().camera = {{0, 4, 6}, {0, 0, 0}, {0, 1, 0}, 50};
+    builder.light({3, 8, 2}).light({-4, 5, 5}, {0.5, 0.5, 0.6});
+    scene::Material glass;
+    glass.color = {0.9, 0.95, 1};
+    glass.transmission = 0.6;
+    glass.reflection = 0.2;
+    glass.ior = 1.5;
+    builder.object(test::sphere({0, 1.2, 0}, 1, builder.material(glass)));
+    builder.add(test::mesh({{-4, 0, -4}, {4, 0, -4}, {4, 0, 4}, {-4, 0, 4}, {0, 0.5, 0}},
+                           {{{0, 4, 1}}, {{1, 4, 2}}, {{2, 4, 3}}, {{3, 4, 0}}}));
+    builder.scene().max_depth = 4;
+    const double worst = worst_pixel_difference(builder.build());
+    EXPECT_LE(worst, 1.0 / 255) << "worst channel difference";
+    RecordProperty("worst_channel_difference", std::to_string(worst));
+}
+
+// `twinray render --tracer plugin:PATH`: the statuses of the README's table for a plug-in that does not load and
+// for a scene holding a kind it lacks.
+TEST(PluginRender, TheRenderCommandRefusesAnUnloadablePluginAndAMissingKindWithTheirOwnStatuses) {
+    const std::string output = std::string(TWINRAY_TEST_OUTPUT_DIR) + "/plugin_render.png";
+    test::CommandResult missing = test::run_twinray("render " TWINRAY_SOURCE_DIR
+                                                    "/scenes/spheres.json --tracer "
+                                                    "plugin:/nonexistent/tracer.so -o " +
+                                                    output);
+    EXPECT_EQ(missing.exit_status, 7) << missing.output;
+    EXPECT_NE(missing.output.find("cannot load the plug-in /nonexistent/tracer.so"), std::string::npos)
+        << missing.output;
+    test::CommandResult lacking = test::run_twinray(
+        "render " TWINRAY_SOURCE_DIR "/scenes/planes.json --tracer plugin:" + std::string(TWINRAY_EXAMPLE_TRACER) +
+        " -o " + output);
+    EXPECT_EQ(lacking.exit_status, 8) << lacking.output;
+    EXPECT_NE(lacking.output.find("the scene holds a plane, which the tracer \"brute force (C example)\" does not "
+                                  "intersect"),
+              std::string::npos)
+        << lacking.output;
+    test::CommandResult rendered = test::run_twinray("render " TWINRAY_SOURCE_DIR
+                                                     "/scenes/spheres.json --tracer "
+                                                     "plugin:" +
+                                                     std::string(TWINRAY_EXAMPLE_TRACER) + " --width 40 -o " + output);
+    EXPECT_EQ(rendered.exit_status, 0) << rendered.output;
 }
 
 // One way to break the contract per library (tests/plugins/faulty_tracer.c), and what twinray says of it.

@@ -4,6 +4,7 @@
 #include "cli/tracers.h"
 #include "image/image_file.h"
 #include "io/atomic_file.h"
+#include "plugin/plugin.h"
 #include "scene/depth_control.h"
 #include "scene/loader.h"
 #include "scene/mesh_file.h"
@@ -218,6 +219,18 @@ int run_render(const RenderArguments& arguments) {
         clear_progress();
         std::cerr << "twinray render: interrupted; " << output.string() << " was not written\n";
         return exit_interrupted;
+    } catch (const plugin::UnsupportedKind& refusal) {
+        clear_progress();
+        std::cerr << "twinray render: " << refusal.what() << "\n";
+        return exit_plugin_lacks_kind;
+    } catch (const plugin::PluginUnusable& unusable) {
+        clear_progress();
+        std::cerr << "twinray render: " << unusable.what() << "\n";
+        return exit_plugin_unusable;
+    } catch (const plugin::PluginFault& fault) {
+        clear_progress();
+        std::cerr << "twinray render: " << fault.what() << "; " << output.string() << " was not written\n";
+        return exit_plugin_fault;
     }
     const double render_seconds = seconds_since(start);
     clear_progress();
@@ -266,13 +279,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     command
         ->add_option("--height", arguments->height, "Image height; alone, the width follows the scene's aspect ratio")
         ->check(CLI::Range(1, 16384));
-    std::string tracer_help = "Tracer:";
-    for (const std::string& name : tracer_names()) {
-        tracer_help += " " + name + " (" + tracer_description(name) + ");";
-    }
-    command->add_option("--tracer", arguments->tracer, tracer_help)
-        ->check(CLI::IsMember(tracer_names()))
-        ->capture_default_str();
+    add_tracer_option(*command, arguments->tracer);
     command
         ->add_option("--threads", arguments->threads,
                      "Worker threads (default: all cores); the image is identical for any count")

@@ -1,5 +1,6 @@
 #include "cli/tracers.h"
 
+#include "plugin/plugin_intersector.h"
 #include "reference/tracer.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
@@ -7,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <stdexcept>
+#include <string_view>
 
 namespace twinray::cli {
 namespace {
@@ -15,6 +17,8 @@ struct TracerEntry {
     std::string description;
     std::function<RenderResult(const scene::Scene&, const RenderOptions&, const sse::Precision&)> render;
 };
+
+constexpr std::string_view plugin_prefix = "plugin:";
 
 const std::map<std::string, TracerEntry>& registry() {
     static const std::map<std::string, TracerEntry> tracers = {
@@ -50,6 +54,10 @@ const std::vector<std::string>& tracer_names() {
     return names;
 }
 
+bool is_plugin(const std::string& tracer_name) {
+    return tracer_name.starts_with(plugin_prefix);
+}
+
 std::string tracer_description(const std::string& name) {
     return registry().at(name).description;
 }
@@ -63,14 +71,44 @@ std::string tracer_unavailable_reason(const std::string& name) {
 
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
                          const sse::Precision& precision) {
+    if (std::string problem = precision_problem(tracer_name, precision); !problem.empty()) {
+        throw std::invalid_argument(problem);
+    }
+    if (is_plugin(tracer_name)) {
+        const plugin::Plugin loaded(tracer_name.substr(plugin_prefix.size()));
+        const plugin::BuiltScene built(loaded, scene);
+        const plugin::PluginIntersector intersector(built);
+        return reference::render<double>(scene, options, &intersector);
+    }
     auto entry = registry().find(tracer_name);
     if (entry == registry().end()) {
         throw std::invalid_argument("unknown tracer \"" + tracer_name + "\"");
     }
-    if (std::string problem = precision_problem(tracer_name, precision); !problem.empty()) {
-        throw std::invalid_argument(problem);
-    }
     return entry->second.render(scene, options, precision);
+}
+
+void add_tracer_option(CLI::App& command, std::string& tracer) {
+    std::string help = "Tracer:";
+    for (const std::string& name : tracer_names()) {
+        help += " " + name + " (" + tracer_description(name) + ");";
+    }
+    help +=
+        " or plugin:PATH (a tracer behind include/twinray/tracer.h, its hits shaded by the reference in double; "
+        "docs/plugins.md)";
+    command.add_option("--tracer", tracer, help)
+        ->check(CLI::Validator(
+            [](const std::string& name) -> std::string {
+                if (registry().count(name) != 0 || (is_plugin(name) && name.size() > plugin_prefix.size())) {
+                    return "";
+                }
+                std::string known;
+                for (const std::string& each : tracer_names()) {
+                    known += each + ", ";
+                }
+                return "unknown tracer \"" + name + "\"; known: " + known + "plugin:PATH";
+            },
+            "TRACER", "tracer"))
+        ->capture_default_str();
 }
 
 void add_precision_options(CLI::App& command, sse::Precision& precision) {

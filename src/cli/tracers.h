@@ -12,16 +12,21 @@
 
 namespace twinray::cli {
 
+// The tracers built in; beside them "plugin:PATH" names a tracer behind the tracer ABI (docs/plugins.md).
 const std::vector<std::string>& tracer_names();
+bool is_plugin(const std::string& tracer_name);
 std::string tracer_description(const std::string& name);
 // Empty when the tracer can run on this machine, else why not (the SSE tracer needs SSE4.1).
 std::string tracer_unavailable_reason(const std::string& name);
 inline const char* default_tracer = "sse";
 // `precision` applies to the SSE tracer only; knobs asked of another tracer are refused
 // (std::invalid_argument), as are knob combinations the SSE tracer is not built for. options.accel applies to
-// every tracer.
+// every tracer. A plug-in throws plugin::UnsupportedKind, plugin::PluginUnusable or plugin::PluginFault.
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
                          const sse::Precision& precision = {});
+
+// --tracer NAME or plugin:PATH.
+void add_tracer_option(CLI::App& command, std::string& tracer);
 
 // --fast-rcp, --fast-rsqrt, --dpps, --textbook-quadratic, --ftz and the preset --precision exact|fast.
 void add_precision_options(CLI::App& command, sse::Precision& precision);
