@@ -13,6 +13,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -219,6 +222,52 @@ TEST(PluginRender, TheRenderCommandRefusesAnUnloadablePluginAndAMissingKindWithT
                                                      "plugin:" +
                                                      std::string(TWINRAY_EXAMPLE_TRACER) + " --width 40 -o " + output);
     EXPECT_EQ(rendered.exit_status, 0) << rendered.output;
+}
+
+// `twinray conform`: a verdict per case, the report and its JUnit XML whole, and the example's known weakness found:
+// Moller-Trumbore with inclusive edges counts a ray through a shared edge twice.
+TEST(Conform, TheExampleGetsAVerdictPerCaseWithItsFiguresAndAJUnitReport) {
+    const std::string junit = std::string(TWINRAY_TEST_OUTPUT_DIR) + "/conform_example.xml";
+    std::remove(junit.c_str());
+    test::CommandResult run =
+        test::run_twinray("conform " + std::string(TWINRAY_EXAMPLE_TRACER) + " --watertight-rays 60 --junit " + junit);
+    EXPECT_EQ(run.exit_status, 10) << run.output;
+    EXPECT_NE(run.output.find("tracer:  brute force (C example) 1.0 (sphere, triangles; unit roundoff 1.11e-16"),
+              std::string::npos)
+        << run.output;
+    EXPECT_NE(run.output.find("pass    300 spheres: 3072 rays"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("pass    tessellated sphere moved 1e+07 away"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("fail    grid at 1: 300 rays at shared edges, vertices and faces, sizes 1e-4 to 1e4: 0 "
+                              "misses (0 per million), 300 double hits"),
+              std::string::npos)
+        << run.output;
+    std::ifstream file(junit);
+    const std::string xml((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    EXPECT_NE(xml.find("<testsuite name=\"primary rays\" tests=\"2\" failures=\"0\" skipped=\"0\">"), std::string::npos)
+        << xml;
+    EXPECT_NE(xml.find("<testsuite name=\"watertight\" tests=\"16\""), std::string::npos) << xml;
+    EXPECT_NE(xml.find("<testcase classname=\"conform.watertight\" name=\"grid at 1\""), std::string::npos) << xml;
+}
+
+// A tracer that crashes, hangs or ends the process costs its case a verdict, never twinray its report.
+TEST(Conform, ACrashingHangingOrExitingPluginGetsAVerdictAndTheReportIsWhole) {
+    const std::vector<std::pair<std::string, std::string>> faults{
+        {"crashes", "the tracer crashed (Segmentation fault, signal 11)"},
+        {"hangs", "the tracer gave no answer within 0.5 s (killed: it hangs, or is that slow)"},
+        {"exits", "the tracer ended the process (exit status 3) before answering"}};
+    for (const auto& [fault, verdict] : faults) {
+        SCOPED_TRACE(fault);
+        test::CommandResult run =
+            test::run_twinray("conform " + std::string(TWINRAY_FAULTY_TRACER_DIR) + "/libfaulty_tracer_" + fault +
+                              ".so --suite primary --time-limit 0.5");
+        EXPECT_EQ(run.exit_status, 10) << run.output;
+        EXPECT_NE(run.output.find("fail    300 spheres: " + verdict), std::string::npos) << run.output;
+        EXPECT_NE(run.output.find("0 pass, 0 warn, 1 fail, 1 skipped"), std::string::npos) << run.output;
+    }
+    test::CommandResult unloadable =
+        test::run_twinray("conform " + std::string(TWINRAY_FAULTY_TRACER_DIR) + "/libfaulty_tracer_other_version.so");
+    EXPECT_EQ(unloadable.exit_status, 7) << unloadable.output;
+    EXPECT_NE(unloadable.output.find("speaks the tracer ABI version 2"), std::string::npos) << unloadable.output;
 }
 
 // One way to break the contract per library (tests/plugins/faulty_tracer.c), and what twinray says of it.

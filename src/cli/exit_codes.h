@@ -14,8 +14,9 @@ enum ExitCode : int {
     exit_not_watertight = 6,    // watertight: some tracer missed or double-hit a ray at a shared edge or vertex
     exit_plugin_unusable =
         7,  // a plug-in that does not load, lacks the entry point, speaks another ABI, or fails to build
-    exit_plugin_lacks_kind = 8,  // the scene holds a kind of primitive the plug-in does not intersect
-    exit_plugin_fault = 9,       // a plug-in answered against the tracer ABI's contract (NaN, t out of range, ...)
+    exit_plugin_lacks_kind = 8,    // the scene holds a kind of primitive the plug-in does not intersect
+    exit_plugin_fault = 9,         // a plug-in answered against the tracer ABI's contract (NaN, t out of range, ...)
+    exit_conformance_failed = 10,  // conform: some case of the plug-in's failed
     exit_interrupted = 130,  // render: stopped by Ctrl-C (SIGINT) before writing; 128 + SIGINT, as a shell reports it
 };
 

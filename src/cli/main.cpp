@@ -1,6 +1,7 @@
 // twinray: two ray tracers, one scene format, and the tools to hold them against each other.
 #include "cli/bench_command.h"
 #include "cli/compare_command.h"
+#include "cli/conform_command.h"
 #include "cli/diff_command.h"
 #include "cli/exit_codes.h"
 #include "cli/generate_command.h"
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
     add_numerics_command(app, run);
     add_generate_command(app, run);
     add_watertight_command(app, run);
+    add_conform_command(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -1,10 +1,13 @@
 /* A tracer that breaks the tracer ABI in one way, chosen when it is built (FAULT, below), and otherwise answers
  * every ray with a plausible hit: object 0 at t = 1, or every ray's two hits at t = 1 and 2. The tests hold each
- * fault to the verdict twinray gives it (tests/plugin_test.cpp); FAULT_NONE is the control that must pass. */
+ * fault to the verdict twinray gives it (tests/plugin_test.cpp; the last three, which no process survives, through
+ * `twinray conform`); FAULT_NONE is the control that must pass. */
 #include <twinray/tracer.h>
 
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 #define FAULT_NONE 0
 #define FAULT_NO_ENTRY 1
@@ -17,6 +20,9 @@
 #define FAULT_UNKNOWN_OBJECT 8
 #define FAULT_HITS_OUT_OF_ORDER 9
 #define FAULT_CALL_FAILS 10
+#define FAULT_CRASHES 11
+#define FAULT_HANGS 12
+#define FAULT_EXITS 13
 
 static int built_scene;
 
@@ -51,6 +57,17 @@ static int intersect(void* built, const twinray_ray* rays, size_t count, twinray
     if (FAULT == FAULT_CALL_FAILS) {
         snprintf(error, error_size, "the device was lost");
         return 3;
+    }
+    if (FAULT == FAULT_CRASHES) {
+        raise(SIGSEGV);
+    }
+    if (FAULT == FAULT_HANGS) {
+        volatile int forever = 1;
+        while (forever) {
+        }
+    }
+    if (FAULT == FAULT_EXITS) {
+        exit(3);
     }
     for (i = 0; i < count; ++i) {
         answer(&hits[i], 1);

@@ -1,0 +1,198 @@
+#include "plugin/conformance.h"
+
+#include "accuracy/watertight.h"
+#include "numerics/numerics.h"
+#include "reference/tracer.h"
+#include "scene/geometry.h"
+#include "scene/sphere_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <string>
+
+namespace twinray::plugin {
+namespace {
+
+std::string format(const char* pattern, auto... values) {
+    char text[512];
+    std::snprintf(text, sizeof text, pattern, values...);
+    return text;
+}
+
+double percentile(std::vector<double> values, double share) {
+    if (values.empty()) {
+        return 0;
+    }
+    const auto rank = static_cast<std::size_t>(share * static_cast<double>(values.size() - 1));
+    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(rank), values.end());
+    return values[rank];
+}
+
+// The kinds the scene holds that the plug-in lacks, as a skipped case; nothing where it has them all.
+std::optional<CaseResult> lacking(const Plugin& plugin, const scene::Scene& scene) {
+    std::vector<std::string> missing = missing_kinds(scene, plugin.table().kinds);
+    if (missing.empty()) {
+        return std::nullopt;
+    }
+    std::string kinds;
+    for (const std::string& kind : missing) {
+        kinds += (kinds.empty() ? "" : ", ") + kind;
+    }
+    return CaseResult{Verdict::skipped, "the scene holds what the tracer does not intersect: " + kinds};
+}
+
+}  // namespace
+
+const char* verdict_name(Verdict verdict) {
+    switch (verdict) {
+        case Verdict::pass: return "pass";
+        case Verdict::warn: return "warn";
+        case Verdict::fail: return "fail";
+        case Verdict::skipped: return "skipped";
+    }
+    return "?";
+}
+
+CaseResult judge_primary_rays(const Plugin& plugin, const scene::Scene& scene, int width, int height) {
+    if (std::optional<CaseResult> skipped = lacking(plugin, scene)) {
+        return *skipped;
+    }
+    const reference::Tracer<double> oracle(scene);
+    const BuiltScene built(plugin, scene);
+    std::vector<twinray_ray> rays;
+    std::vector<std::optional<reference::Hit<double>>> expected;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const reference::Ray<double> ray = oracle.primary_ray(x, y, width, height);
+            rays.push_back({{ray.origin.x, ray.origin.y, ray.origin.z},
+                            {ray.direction.x, ray.direction.y, ray.direction.z},
+                            0,
+                            std::numeric_limits<double>::infinity()});
+            expected.push_back(oracle.intersect(ray));
+        }
+    }
+    std::vector<Hit> hits(rays.size());
+    built.intersect(rays, hits);
+    std::size_t hit_disagreements = 0, object_disagreements = 0, agreed = 0;
+    long first_disagreement = -1;
+    std::vector<double> t_errors;
+    double worst_angle = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Hit& hit = hits[i];
+        const std::optional<reference::Hit<double>>& truth = expected[i];
+        if (hit.hit != truth.has_value() || (hit.hit && hit.leaf != truth->leaf)) {
+            (hit.hit != truth.has_value() ? hit_disagreements : object_disagreements) += 1;
+            first_disagreement = first_disagreement < 0 ? static_cast<long>(i) : first_disagreement;
+            continue;
+        }
+        if (!hit.hit) {
+            continue;
+        }
+        ++agreed;
+        const scene::Vec3 origin{rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]};
+        const double scale = math::max_abs_component(origin) + truth->t;
+        t_errors.push_back(std::fabs(hit.t - truth->t) / (scale * plugin.unit_roundoff()));
+        // The oracle's normal faces the ray; the plug-in's is outward: compared on the ray's side.
+        const scene::Vec3 direction{rays[i].direction[0], rays[i].direction[1], rays[i].direction[2]};
+        scene::Vec3 normal = math::normalize(hit.normal);
+        normal = math::dot(normal, direction) > 0 ? -normal : normal;
+        const double cosine = std::clamp(math::dot(normal, truth->normal), -1.0, 1.0);
+        worst_angle = std::max(worst_angle, std::acos(cosine));
+    }
+    const double rays_count = static_cast<double>(rays.size());
+    const double disagreement_share = static_cast<double>(hit_disagreements + object_disagreements) / rays_count;
+    const double t_max = t_errors.empty() ? 0 : *std::max_element(t_errors.begin(), t_errors.end());
+    CaseResult result;
+    result.verdict = t_max > t_error_warn || disagreement_share > disagreement_warn ? Verdict::fail
+                     : t_max > t_error_pass || disagreement_share > 0               ? Verdict::warn
+                                                                                    : Verdict::pass;
+    result.detail = format(
+        "%zu rays, %zu hits agreed; %zu hit/miss and %zu object disagreements%s; t error (u of |o|+t) p50 %.3g, "
+        "p99 %.3g, max %.3g; normal error max %.3g rad",
+        rays.size(), agreed, hit_disagreements, object_disagreements,
+        first_disagreement < 0
+            ? ""
+            : format(" (the first at pixel %ld, %ld)", first_disagreement % width, first_disagreement / width).c_str(),
+        percentile(t_errors, 0.5), percentile(t_errors, 0.99), t_max, worst_angle);
+    return result;
+}
+
+CaseResult judge_watertight(const Plugin& plugin, const std::string& family, double distance, int rays_per_size) {
+    accuracy::WatertightTally total;
+    for (double size : accuracy::watertight_sizes()) {
+        const accuracy::WatertightCase watertight =
+            accuracy::make_watertight_case(family, distance, size, rays_per_size);
+        if (std::optional<CaseResult> skipped = lacking(plugin, watertight.scene)) {
+            return *skipped;
+        }
+        const BuiltScene built(plugin, watertight.scene);
+        const accuracy::WatertightTally tally =
+            accuracy::count_watertightness(watertight, [&](const accuracy::WatertightProbe& probe) {
+                int triangles = 0;
+                for (const Hit& hit : built.hits_along(probe.origin, probe.direction, 0, probe.length)) {
+                    triangles += hit.triangle >= 0 ? 1 : 0;
+                }
+                return triangles;
+            });
+        total.rays += tally.rays;
+        total.misses += tally.misses;
+        total.double_hits += tally.double_hits;
+    }
+    const double per_million = 1e6 / static_cast<double>(std::max<std::uint64_t>(total.rays, 1));
+    CaseResult result;
+    result.verdict = total.misses + total.double_hits == 0 ? Verdict::pass : Verdict::fail;
+    result.detail = format(
+        "%llu rays at shared edges, vertices and faces, sizes 1e-4 to 1e4: %llu misses (%.0f per "
+        "million), %llu double hits (%.0f per million)",
+        static_cast<unsigned long long>(total.rays), static_cast<unsigned long long>(total.misses),
+        static_cast<double>(total.misses) * per_million, static_cast<unsigned long long>(total.double_hits),
+        static_cast<double>(total.double_hits) * per_million);
+    return result;
+}
+
+std::vector<ConformCase> conformance_cases(const std::vector<NamedScene>& scenes, int width, int height,
+                                           int watertight_rays_per_size) {
+    std::vector<ConformCase> cases;
+    for (const NamedScene& named : scenes) {
+        cases.push_back({"primary rays", named.name, [&named, width, height](const Plugin& plugin) {
+                             return judge_primary_rays(plugin, named.scene, width, height);
+                         }});
+    }
+    for (double shift : {1e3, 1e5, 1e7}) {
+        for (const NamedScene& named : scenes) {
+            cases.push_back({"far from the origin", named.name + format(" moved %g away", shift),
+                             [&named, width, height, shift](const Plugin& plugin) {
+                                 return judge_primary_rays(plugin, numerics::transformed(named.scene, 1, shift), width,
+                                                           height);
+                             }});
+        }
+    }
+    for (const std::string& family : accuracy::watertight_families()) {
+        for (double distance : accuracy::watertight_distances()) {
+            cases.push_back({"watertight", family + format(" at %g", distance),
+                             [family, distance, watertight_rays_per_size](const Plugin& plugin) {
+                                 return judge_watertight(plugin, family, distance, watertight_rays_per_size);
+                             }});
+        }
+    }
+    return cases;
+}
+
+std::vector<NamedScene> built_in_conformance_scenes() {
+    std::vector<NamedScene> scenes;
+    scenes.push_back({"300 spheres", scene::sphere_field(300)});
+    // The watertight suite's closed sphere of radius 1 at the origin, seen from outside, lit.
+    scene::Scene mesh = accuracy::make_watertight_case("sphere", 1, 1, 1).scene;
+    const scene::Bounds bounds = scene::vertex_bounds(*mesh.meshes.front().data);
+    const scene::Vec3 centre = 0.5 * (bounds.low + bounds.high);
+    mesh.camera.eye = centre + scene::Vec3{0.5, 1, 3};
+    mesh.camera.look_at = centre;
+    mesh.lights.push_back({centre + scene::Vec3{2, 3, 4}, {1, 1, 1}});
+    scenes.push_back({"tessellated sphere", std::move(mesh)});
+    return scenes;
+}
+
+}  // namespace twinray::plugin
