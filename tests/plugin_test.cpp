@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -24,6 +25,14 @@ namespace twinray {
 namespace {
 
 constexpr double infinity = std::numeric_limits<double>::infinity();
+
+// A file in this test's own output folder, created on first use (ctest runs each test in a fresh process, in any
+// order).
+std::string output_file(const std::string& name) {
+    const std::filesystem::path folder = std::filesystem::path(TWINRAY_TEST_OUTPUT_DIR) / "plugin";
+    std::filesystem::create_directories(folder);
+    return (folder / name).string();
+}
 
 const plugin::Plugin& example() {
     static const plugin::Plugin loaded(TWINRAY_EXAMPLE_TRACER);
@@ -201,7 +210,7 @@ TEST(PluginRender, TheExamplesImageOfAMeshUnderASphereIsTheOraclesWithinOneLevel
 // `twinray render --tracer plugin:PATH`: the statuses of the README's table for a plug-in that does not load and
 // for a scene holding a kind it lacks.
 TEST(PluginRender, TheRenderCommandRefusesAnUnloadablePluginAndAMissingKindWithTheirOwnStatuses) {
-    const std::string output = std::string(TWINRAY_TEST_OUTPUT_DIR) + "/plugin_render.png";
+    const std::string output = output_file("render.png");
     test::CommandResult missing = test::run_twinray("render " TWINRAY_SOURCE_DIR
                                                     "/scenes/spheres.json --tracer "
                                                     "plugin:/nonexistent/tracer.so -o " +
@@ -227,7 +236,7 @@ TEST(PluginRender, TheRenderCommandRefusesAnUnloadablePluginAndAMissingKindWithT
 // `twinray conform`: a verdict per case, the report and its JUnit XML whole, and the example's known weakness found:
 // Moller-Trumbore with inclusive edges counts a ray through a shared edge twice.
 TEST(Conform, TheExampleGetsAVerdictPerCaseWithItsFiguresAndAJUnitReport) {
-    const std::string junit = std::string(TWINRAY_TEST_OUTPUT_DIR) + "/conform_example.xml";
+    const std::string junit = output_file("conform_example.xml");
     std::remove(junit.c_str());
     test::CommandResult run =
         test::run_twinray("conform " + std::string(TWINRAY_EXAMPLE_TRACER) + " --watertight-rays 60 --junit " + junit);
@@ -247,6 +256,26 @@ TEST(Conform, TheExampleGetsAVerdictPerCaseWithItsFiguresAndAJUnitReport) {
         << xml;
     EXPECT_NE(xml.find("<testsuite name=\"watertight\" tests=\"16\""), std::string::npos) << xml;
     EXPECT_NE(xml.find("<testcase classname=\"conform.watertight\" name=\"grid at 1\""), std::string::npos) << xml;
+}
+
+// Embree through the ABI, as its documentation describes it: the default mode lets rays through shared edges of a
+// closed mesh near the origin, the robust mode none (both count a ray through an edge on both of its triangles).
+TEST(Conform, EmbreesRobustModeLetsNoRayThroughASharedEdgeNearTheOriginAndItsDefaultModeDoes) {
+#ifndef TWINRAY_EMBREE_TRACER_ROBUST
+    GTEST_SKIP() << "Embree 3 is not installed (libembree-dev)";
+#else
+    auto sphere_at_1 = [](const std::string& library) {
+        test::CommandResult run = test::run_twinray("conform " + library + " --suite watertight --watertight-rays 400");
+        EXPECT_EQ(run.exit_status, 10) << run.output;
+        const std::size_t line = run.output.find("sphere at 1: ");
+        EXPECT_NE(line, std::string::npos) << run.output;
+        return run.output.substr(line, run.output.find('\n', line) - line);
+    };
+    const std::string robust = sphere_at_1(TWINRAY_EMBREE_TRACER_ROBUST);
+    EXPECT_NE(robust.find(": 0 misses (0 per million)"), std::string::npos) << robust;
+    const std::string by_default = sphere_at_1(TWINRAY_EMBREE_TRACER_DEFAULT);
+    EXPECT_EQ(by_default.find(": 0 misses"), std::string::npos) << by_default;
+#endif
 }
 
 // A tracer that crashes, hangs or ends the process costs its case a verdict, never twinray its report.
