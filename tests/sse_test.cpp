@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <limits>
 #include <new>
 #include <string>
@@ -197,3 +198,52 @@ TEST(SseCsg, ASweepOverNanCrossingsEnds) {
 }
 
 }  // namespace
+
+namespace {
+
+bool same_hit(const twinray::sse::Hit& a, const twinray::sse::Hit& b) {
+    return a.t == b.t && a.leaf == b.leaf && a.triangle == b.triangle && a.entering == b.entering &&
+           a.normal == b.normal && a.point == b.point && a.spawn_offset == b.spawn_offset;
+}
+
+}  // namespace
+
+// hits_along is what the tracer ABI's every-hit query and the watertightness suite read: its first hit must be the
+// nearest hit intersect finds, its list ordered, and the BVH must not change it.
+TEST_F(SseTracerTest, HitsAlongBeginWithTheNearestHitAreOrderedAndTheSameWithOrWithoutTheBvh) {
+    using twinray::Accel;
+    for (const char* name : {"complete1.json", "csg.json", "meshes.json", "transforms.json", "instances.json"}) {
+        const twinray::scene::Scene scene = load(name);
+        const twinray::sse::Tracer with_bvh(scene, {}, Accel::bvh), brute_force(scene, {}, Accel::none);
+        int rays = 0, hits = 0, crossings = 0;
+        for (int y = 0; y < 24; ++y) {
+            for (int x = 0; x < 32; ++x) {
+                const twinray::sse::Ray ray = with_bvh.primary_ray(x, y, 32, 24);
+                const std::optional<twinray::sse::Hit> nearest = with_bvh.intersect(ray);
+                const std::vector<twinray::sse::Hit> along = with_bvh.hits_along(ray, std::numeric_limits<float>::infinity());
+                const std::vector<twinray::sse::Hit> along_brute = brute_force.hits_along(ray, std::numeric_limits<float>::infinity());
+                ++rays;
+                ASSERT_EQ(nearest.has_value(), !along.empty()) << name << " pixel " << x << ", " << y;
+                ASSERT_EQ(along.size(), along_brute.size()) << name << " pixel " << x << ", " << y;
+                for (std::size_t i = 0; i < along.size(); ++i) {
+                    ASSERT_TRUE(same_hit(along[i], along_brute[i])) << name << " pixel " << x << ", " << y;
+                    ASSERT_TRUE(i == 0 || along[i - 1].t <= along[i].t) << name << " pixel " << x << ", " << y;
+                }
+                if (nearest) {
+                    ++hits;
+                    crossings += static_cast<int>(along.size());
+                    ASSERT_TRUE(same_hit(*nearest, along.front()))
+                        << name << " pixel " << x << ", " << y << ": nearest t " << nearest->t << " leaf "
+                        << nearest->leaf << ", first along t " << along.front().t << " leaf " << along.front().leaf;
+                }
+                if (!along.empty()) {
+                    const float cut = along.front().t;
+                    ASSERT_TRUE(with_bvh.hits_along(ray, cut).empty()) << "nothing lies before the first crossing";
+                }
+            }
+        }
+        EXPECT_GT(hits, 0) << name;
+        EXPECT_GT(crossings, hits) << name << ": rays through closed solids cross them more than once";
+        std::cout << name << ": " << rays << " rays, " << hits << " hits, " << crossings << " crossings\n";
+    }
+}

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 namespace twinray::sse {
 
@@ -251,6 +252,103 @@ public:
             }
         }
         return finish(rays, nearest);
+    }
+
+    // Every crossing of lane 0's ray with t in (0, distance) by increasing (t, leaf, triangle), each completed as
+    // intersect completes its nearest (re-projection, normal, spawn offset): what the tracer ABI's hits_along and
+    // the watertightness suite read. The walk is intersect's, bounded by `distance`; a correctness tool, it
+    // collects the crossings on the heap.
+    template <typename Visit>
+    void for_each_crossing(RayPacket& rays, float distance, Visit&& visit) const {
+        if (scene_.any_inverse_direction) {
+            rays.template compute_inverse_direction<P>();
+        }
+        struct Crossed {
+            float t;
+            std::int32_t leaf, tag, place, triangle, instance;
+        };
+        std::vector<Crossed> crossed;
+        auto ahead = [distance](float t) { return t > 0.0f && t < distance; };
+        auto add_span = [&](const Span4& span, std::int32_t leaf, float, std::uint32_t) {
+            if ((movemask(span.valid) & 1) == 0) {
+                return;
+            }
+            alignas(16) std::int32_t enter_face[4], exit_face[4];
+            span.enter_face.store(enter_face);
+            span.exit_face.store(exit_face);
+            if (const float enter = span.enter.lane(0); ahead(enter)) {
+                crossed.push_back({enter, leaf, enter_face[0] | tag_entering, -1, -1, -1});
+            }
+            if (const float exit = span.exit.lane(0); ahead(exit)) {
+                crossed.push_back({exit, leaf, exit_face[0], -1, -1, -1});
+            }
+        };
+        auto add_triangle = [&](const TriangleHit4& crossing, std::int32_t leaf, std::uint32_t triangle,
+                                std::uint32_t place, std::int32_t instance, bool mirrors) {
+            if ((movemask(crossing.valid) & 1) == 0 || !ahead(crossing.t.lane(0))) {
+                return;
+            }
+            const bool front = ((movemask(crossing.front) & 1) != 0) != mirrors;
+            crossed.push_back({crossing.t.lane(0), leaf, front ? tag_entering : 0, static_cast<std::int32_t>(place),
+                               static_cast<std::int32_t>(triangle), instance});
+        };
+        auto add_mesh_triangle = [&](const TriangleHit4& crossing, std::uint32_t place) {
+            const TriangleRecord& record = scene_.triangles.items[place];
+            add_triangle(crossing, record.leaf, record.triangle, place, -1, false);
+        };
+        auto add_instance = [&](std::uint32_t index) {
+            const InstanceRecord& instance = scene_.instances[index];
+            const TriangleList& triangles = scene_.shapes[instance.shape].triangles;
+            vbool4 lanes = rays.active;
+            for_each_instance_crossing<P>(scene_, instance, rays, lanes, vfloat4(distance),
+                                          [&](const TriangleHit4& crossing, std::uint32_t place) {
+                                              add_triangle(crossing, instance.leaf, triangles.items[place].triangle,
+                                                           place, static_cast<std::int32_t>(index), instance.mirrors);
+                                          });
+        };
+        for_each_span<P>(scene_.flat(), rays, add_span);
+        const std::optional<ShearedRays> sheared = sheared_for<P>(scene_, rays);
+        CsgCandidates csg;
+        if (!scene_.bvh.empty()) {
+            csg.collect();
+            vbool4 lanes = rays.active;
+            for_each_leaf_met(scene_.bvh, BvhRays(rays), lanes, vfloat4(distance), [&](BvhLeaf leaf) {
+                for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, add_span, add_mesh_triangle, add_instance);
+            });
+        } else {
+            if (sheared) {
+                for_each_triangle_crossing<P>(scene_.triangles, *sheared, add_mesh_triangle);
+            }
+            for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
+                add_instance(i);
+            }
+        }
+        csg.for_each(scene_, [&](const CsgObject& object) {
+            SpanArray spans;
+            CsgEvaluation<P>(object, rays).evaluate(0, spans);
+            auto add_end = [&](const Crossing& end, std::int32_t entering) {
+                if (end.leaf >= 0 && ahead(end.t)) {
+                    crossed.push_back({end.t, end.leaf, end.tag | entering, -1, -1, -1});
+                }
+            };
+            for (int i = 0; i < spans.count; ++i) {
+                add_end(spans.enter[i], tag_entering);
+                add_end(spans.exit[i], 0);
+            }
+        });
+        std::stable_sort(crossed.begin(), crossed.end(), [](const Crossed& a, const Crossed& b) {
+            return a.t < b.t || (a.t == b.t && (a.leaf < b.leaf || (a.leaf == b.leaf && a.triangle < b.triangle)));
+        });
+        for (const Crossed& crossing : crossed) {
+            Nearest4 one;
+            one.t = vfloat4(crossing.t);
+            one.leaf = vint4(crossing.leaf);
+            one.tag = vint4(crossing.tag);
+            one.place = vint4(crossing.place);
+            one.triangle = vint4(crossing.triangle);
+            one.instance = vint4(crossing.instance);
+            visit(finish(rays, one));
+        }
     }
 
 private:

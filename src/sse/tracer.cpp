@@ -48,6 +48,23 @@ RayPacket single_ray_packet(const RelativeRay& ray) {
     return RayPacket(broadcast(ray.origin), broadcast(ray.direction), lane_0_only());
 }
 
+// Lane 0 of a packet's hit, in world coordinates.
+Hit lane_0_hit(const CompiledScene& scene, const Hit4& hit4) {
+    Hit hit;
+    hit.t = hit4.t.lane(0);
+    hit.point = to_world(scene, lane(hit4.point, 0));
+    hit.normal = lane(hit4.normal, 0);
+    alignas(16) std::int32_t lanes[4];
+    hit4.leaf.store(lanes);
+    hit.leaf = lanes[0];
+    hit4.triangle.store(lanes);
+    hit.triangle = lanes[0];
+    hit.shading_normal = lane(hit4.shading_normal, 0);
+    hit.entering = (movemask(hit4.entering) & 1) != 0;
+    hit.spawn_offset = hit4.spawn_offset.lane(0);
+    return hit;
+}
+
 int knob_bits(const Precision& precision) {
     return (precision.fast_rcp ? 1 : 0) | (precision.fast_rsqrt ? 2 : 0) | (precision.dpps ? 4 : 0) |
            (precision.textbook_quadratic ? 8 : 0) | (precision.moller_trumbore ? 16 : 0);
@@ -145,19 +162,27 @@ std::optional<Hit> Tracer::intersect(const Ray& world_ray) const {
     if (!(movemask(hit4.hit) & 1)) {
         return std::nullopt;
     }
-    Hit hit;
-    hit.t = hit4.t.lane(0);
-    hit.point = to_world(*scene_, lane(hit4.point, 0));
-    hit.normal = lane(hit4.normal, 0);
-    alignas(16) std::int32_t leaf[4];
-    hit4.leaf.store(leaf);
-    hit.leaf = leaf[0];
-    hit4.triangle.store(leaf);
-    hit.triangle = leaf[0];
-    hit.shading_normal = lane(hit4.shading_normal, 0);
-    hit.entering = (movemask(hit4.entering) & 1) != 0;
-    hit.spawn_offset = hit4.spawn_offset.lane(0);
-    return hit;
+    return lane_0_hit(*scene_, hit4);
+}
+
+std::vector<Hit> Tracer::hits_along(const Ray& world_ray, float distance) const {
+    RelativeRay ray = relative_to(*scene_, world_ray);
+    std::vector<Hit> hits;
+    if (!math::is_traceable(ray.origin, ray.direction)) {
+        return hits;
+    }
+    ScopedFlushDenormals denormals(precision_.flush_denormals);
+    with_precision_policy(precision_, [&](auto policy) {
+        RayPacket rays = single_ray_packet(ray);
+        NearestHit<decltype(policy)>(*scene_).for_each_crossing(
+            rays, distance, [&](const Hit4& hit4) { hits.push_back(lane_0_hit(*scene_, hit4)); });
+    });
+    return hits;
+}
+
+int Tracer::mesh_crossings(const Ray& ray, float distance) const {
+    const std::vector<Hit> hits = hits_along(ray, distance);
+    return static_cast<int>(std::count_if(hits.begin(), hits.end(), [](const Hit& hit) { return hit.triangle >= 0; }));
 }
 
 Color Tracer::trace(const Ray& world_ray, int depth, TraceTally* tally, RayTree* tree) const {
@@ -176,45 +201,6 @@ Color Tracer::trace(const Ray& world_ray, int depth, TraceTally* tally, RayTree*
         tally->add_pixel(walk.rays, walk.ledgers[0].dropped, walk.ledgers[0].over_budget);
     }
     return lane(color, 0);
-}
-
-int Tracer::mesh_crossings(const Ray& world_ray, float distance) const {
-    RelativeRay ray = relative_to(*scene_, world_ray);
-    if (!math::is_traceable(ray.origin, ray.direction)) {
-        return 0;
-    }
-    ScopedFlushDenormals denormals(precision_.flush_denormals);
-    return with_precision_policy(precision_, [&](auto policy) {
-        using P = decltype(policy);
-        const CompiledScene& scene = *scene_;
-        RayPacket rays = single_ray_packet(ray);
-        const std::optional<ShearedRays> sheared = sheared_for<P>(scene, rays);
-        int count = 0;
-        auto count_lane_0 = [&](const TriangleHit4& crossing, std::uint32_t) {
-            count += (movemask(crossing.valid & (crossing.t < vfloat4(distance))) & 1);
-        };
-        auto count_instance = [&](std::uint32_t index) {
-            vbool4 lanes = rays.active;
-            for_each_instance_crossing<P>(scene, scene.instances[index], rays, lanes, vfloat4(distance), count_lane_0);
-        };
-        if (scene.bvh.empty()) {
-            if (sheared) {
-                for_each_triangle_crossing<P>(scene.triangles, *sheared, count_lane_0);
-            }
-            for (std::uint32_t i = 0; i < scene.instances.size(); ++i) {
-                count_instance(i);
-            }
-            return count;
-        }
-        CsgCandidates csg;
-        vbool4 lanes = rays.active;
-        for_each_leaf_met(scene.bvh, BvhRays(rays), lanes, vfloat4(distance), [&](BvhLeaf leaf) {
-            for_each_span_in_leaf<P>(
-                scene, leaf, rays, sheared, csg, [](const Span4&, std::int32_t, float, std::uint32_t) {}, count_lane_0,
-                count_instance);
-        });
-        return count;
-    });
 }
 
 Ray Tracer::primary_ray(int x, int y, int width, int height) const {

@@ -104,8 +104,11 @@ public:
     Color trace(const Ray& ray, int depth, TraceTally* tally = nullptr, RayTree* tree = nullptr) const;
     Ray primary_ray(int x, int y, int width, int height) const;
 
-    // How many mesh triangles the ray crosses with t in (0, distance), through the BVH where there is one
-    // (accuracy/watertight.h).
+    // Every surface the ray crosses with t in (0, distance), by increasing (t, leaf, triangle), each as intersect
+    // would report it were it the nearest; a triangle met twice at one t (through a shared edge) twice. Through the
+    // BVH where there is one. The tracer ABI's hits_along (docs/plugins.md).
+    std::vector<Hit> hits_along(const Ray& ray, float distance) const;
+    // How many of hits_along's are on mesh triangles (accuracy/watertight.h).
     int mesh_crossings(const Ray& ray, float distance) const;
 
     const CompiledScene& compiled() const { return *scene_; }
