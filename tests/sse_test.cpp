@@ -220,8 +220,10 @@ TEST_F(SseTracerTest, HitsAlongBeginWithTheNearestHitAreOrderedAndTheSameWithOrW
             for (int x = 0; x < 32; ++x) {
                 const twinray::sse::Ray ray = with_bvh.primary_ray(x, y, 32, 24);
                 const std::optional<twinray::sse::Hit> nearest = with_bvh.intersect(ray);
-                const std::vector<twinray::sse::Hit> along = with_bvh.hits_along(ray, std::numeric_limits<float>::infinity());
-                const std::vector<twinray::sse::Hit> along_brute = brute_force.hits_along(ray, std::numeric_limits<float>::infinity());
+                const std::vector<twinray::sse::Hit> along =
+                    with_bvh.hits_along(ray, std::numeric_limits<float>::infinity());
+                const std::vector<twinray::sse::Hit> along_brute =
+                    brute_force.hits_along(ray, std::numeric_limits<float>::infinity());
                 ++rays;
                 ASSERT_EQ(nearest.has_value(), !along.empty()) << name << " pixel " << x << ", " << y;
                 ASSERT_EQ(along.size(), along_brute.size()) << name << " pixel " << x << ", " << y;

@@ -145,12 +145,12 @@ struct FlatScene {
         }
     }
 
-    twinray_scene view(std::uint32_t object_count) const {
+    twinray_scene view(std::uint32_t object_count, const scene::Vec3& eye) const {
         auto count = [](const auto& items) { return static_cast<std::uint32_t>(items.size()); };
-        return {planes.data(),     count(planes), spheres.data(),   count(spheres),   cylinders.data(),
-                count(cylinders),  boxes.data(),  count(boxes),     meshes.data(),    count(meshes),
-                shapes.data(),     count(shapes), instances.data(), count(instances), transforms.data(),
-                count(transforms), object_count};
+        return {planes.data(),     count(planes), spheres.data(),       count(spheres),   cylinders.data(),
+                count(cylinders),  boxes.data(),  count(boxes),         meshes.data(),    count(meshes),
+                shapes.data(),     count(shapes), instances.data(),     count(instances), transforms.data(),
+                count(transforms), object_count,  {eye.x, eye.y, eye.z}};
     }
 };
 
@@ -230,7 +230,7 @@ BuiltScene::BuiltScene(const Plugin& plugin, const scene::Scene& scene) : plugin
             instance_of_leaf_[static_cast<std::size_t>(mesh.leaf)] = instance++;
         }
     }
-    const twinray_scene view = flat.view(static_cast<std::uint32_t>(scene.leaf_paths.size()));
+    const twinray_scene view = flat.view(static_cast<std::uint32_t>(scene.leaf_paths.size()), scene.camera.eye);
     char error[error_size] = "";
     built_ = plugin.table().build(&view, error, sizeof error);
     if (!built_) {
