@@ -3,6 +3,8 @@
 #include "cli/exit_codes.h"
 #include "io/atomic_file.h"
 #include "plugin/conformance.h"
+#include "plugin/direct_sse.h"
+#include "plugin/plugin.h"
 #include "scene/loader.h"
 
 #include <poll.h>
@@ -25,7 +27,7 @@ namespace twinray::cli {
 namespace {
 
 struct ConformArguments {
-    std::string plugin_path;
+    std::string plugin_path;  // or "sse"
     std::vector<std::string> scene_paths;
     int width = 64;
     int height = 48;
@@ -124,19 +126,12 @@ ChildAnswer in_child(const std::function<std::string()>& work, double time_limit
     return answer;
 }
 
-std::string kinds_text(std::uint32_t kinds) {
-    static const std::vector<std::pair<std::uint32_t, const char*>> names{
-        {TWINRAY_KIND_PLANE, "plane"},         {TWINRAY_KIND_SPHERE, "sphere"},
-        {TWINRAY_KIND_CYLINDER, "cylinder"},   {TWINRAY_KIND_BOX, "box"},
-        {TWINRAY_KIND_TRIANGLES, "triangles"}, {TWINRAY_KIND_TRANSFORMED, "transformed primitives"},
-        {TWINRAY_KIND_INSTANCES, "instances"}};
-    std::string text;
-    for (const auto& [kind, name] : names) {
-        if ((kinds & kind) != 0) {
-            text += (text.empty() ? "" : ", ") + std::string(name);
-        }
+// `sse` names twinray's SSE tracer called directly; anything else is a plug-in's library.
+std::unique_ptr<plugin::JudgedTracer> judged_tracer(const std::string& name) {
+    if (name == "sse") {
+        return std::make_unique<plugin::DirectSse>();
     }
-    return text.empty() ? "none" : text;
+    return std::make_unique<plugin::Plugin>(name);
 }
 
 std::string xml_escaped(const std::string& text) {
@@ -249,13 +244,8 @@ int run_conform(const ConformArguments& arguments) {
     const ChildAnswer described = in_child(
         [&] {
             try {
-                const plugin::Plugin loaded(path);
-                char roundoff[32];
-                std::snprintf(roundoff, sizeof roundoff, "%.3g", loaded.unit_roundoff());
-                return "pass\t" + loaded.name() + " " + loaded.version() + " (" + kinds_text(loaded.table().kinds) +
-                       "; unit roundoff " + roundoff + "; " + (loaded.thread_safe() ? "thread-safe" : "one thread") +
-                       ")";
-            } catch (const plugin::PluginUnusable& unusable) {
+                return "pass\t" + judged_tracer(path)->description();
+            } catch (const std::runtime_error& unusable) {
                 return std::string("fail\t") + unusable.what();
             }
         },
@@ -265,7 +255,7 @@ int run_conform(const ConformArguments& arguments) {
         std::cerr << "twinray conform: " << description << "\n";
         return exit_plugin_unusable;
     }
-    std::printf("tracer:  %s\nlibrary: %s\n", description.c_str(), path.c_str());
+    std::printf("tracer:  %s\nlibrary: %s\n", description.c_str(), path == "sse" ? "(built in)" : path.c_str());
     std::printf(
         "primary rays at %d x %d; thresholds: t error within %g unit roundoffs of |o|+t passes, within %g "
         "warns; any disagreement warns, more than %g of the rays fails; every case in a child process, at "
@@ -290,8 +280,7 @@ int run_conform(const ConformArguments& arguments) {
         const ChildAnswer answer = in_child(
             [&] {
                 try {
-                    const plugin::Plugin loaded(path);
-                    const plugin::CaseResult result = conform_case.run(loaded);
+                    const plugin::CaseResult result = conform_case.run(*judged_tracer(path));
                     return std::string(plugin::verdict_name(result.verdict)) + "\t" + result.detail;
                 } catch (const plugin::UnsupportedKind& refusal) {
                     return std::string("skipped\t") + refusal.what();
@@ -328,10 +317,11 @@ void add_conform_command(CLI::App& app, std::function<int()>& run) {
     auto arguments = std::make_shared<ConformArguments>();
     CLI::App* command = app.add_subcommand(
         "conform",
-        "Judge a tracer behind the tracer ABI (docs/plugins.md) ray by ray against the double-precision oracle: "
+        "Judge a tracer behind the tracer ABI (docs/plugins.md), or with `sse` twinray's own SSE tracer called "
+        "directly, ray by ray against the double-precision oracle: "
         "primary rays of each scene (a built-in pair without any), the same moved far from the origin, and the "
         "watertightness rays (exit 0: no case failed; 10: some did; 7: the plug-in cannot be used)");
-    command->add_option("plugin", arguments->plugin_path, "The tracer's shared library")->required();
+    command->add_option("tracer", arguments->plugin_path, "The tracer's shared library, or sse")->required();
     command->add_option("scenes", arguments->scene_paths,
                         "Scene files (default: 300 spheres and a tessellated sphere)");
     command->add_option("--width", arguments->width, "Primary rays per row")

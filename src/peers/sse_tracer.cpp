@@ -3,6 +3,7 @@
 // it the same per-ray verdicts through the ABI as it gives the tracer directly (docs/plugins.md). The exact
 // kernels, the BVH where --accel auto would build one. Rays and hits cross in double: a ray's direction is rounded
 // to float as the direct path rounds it, a hit's float t and normal widened exactly.
+#include "peers/sse_segment.h"
 #include "plugin/abi_scene.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
@@ -33,8 +34,8 @@ void write_error(char* error, std::size_t error_size, const char* message) {
 }
 
 twinray::sse::Ray sse_ray(const twinray_ray& ray) {
-    return {Vec3{ray.origin[0], ray.origin[1], ray.origin[2]},
-            twinray::sse::Vec3(Vec3{ray.direction[0], ray.direction[1], ray.direction[2]})};
+    return twinray::peers::sse_ray({ray.origin[0], ray.origin[1], ray.origin[2]},
+                                   {ray.direction[0], ray.direction[1], ray.direction[2]});
 }
 
 // The hit point's barycentrics in its triangle, in double: the ABI's u and v (the SSE tracer finds t, not them).
@@ -77,17 +78,6 @@ twinray_hit abi_hit(const Built& built, const twinray::sse::Hit& hit) {
     return out;
 }
 
-bool within(const twinray_ray& ray, const twinray::sse::Hit& hit) {
-    return hit.t > ray.t_min && hit.t < ray.t_max;
-}
-
-// The segment's crossings: the tracer's up to t_max rounded to float, which keeps exactly those below t_max.
-std::vector<twinray::sse::Hit> crossings(const Built& built, const twinray_ray& ray) {
-    std::vector<twinray::sse::Hit> all = built.tracer.hits_along(sse_ray(ray), static_cast<float>(ray.t_max));
-    all.erase(std::remove_if(all.begin(), all.end(), [&](const auto& hit) { return !within(ray, hit); }), all.end());
-    return all;
-}
-
 void* build(const twinray_scene* scene, char* error, std::size_t error_size) {
     if (!twinray::sse::cpu_supports_sse41()) {
         write_error(error, error_size, twinray::sse::missing_sse41_message().c_str());
@@ -101,19 +91,14 @@ void* build(const twinray_scene* scene, char* error, std::size_t error_size) {
     }
 }
 
-// The nearest hit from t = 0 is the direct path's intersect; from a later t_min, the first crossing past it.
 int intersect(void* built, const twinray_ray* rays, std::size_t count, twinray_hit* hits, std::size_t* written,
               char* error, std::size_t error_size) {
     const Built& tracer = *static_cast<const Built*>(built);
     try {
         for (std::size_t i = 0; i < count; ++i) {
-            std::optional<twinray::sse::Hit> nearest;
-            if (rays[i].t_min <= 0) {
-                nearest = tracer.tracer.intersect(sse_ray(rays[i]));
-            } else if (std::vector<twinray::sse::Hit> along = crossings(tracer, rays[i]); !along.empty()) {
-                nearest = along.front();
-            }
-            hits[i] = nearest && within(rays[i], *nearest) ? abi_hit(tracer, *nearest) : twinray_hit{};
+            const std::optional<twinray::sse::Hit> nearest =
+                twinray::peers::nearest_within(tracer.tracer, sse_ray(rays[i]), rays[i].t_min, rays[i].t_max);
+            hits[i] = nearest ? abi_hit(tracer, *nearest) : twinray_hit{};
         }
     } catch (const std::exception& failure) {
         write_error(error, error_size, failure.what());
@@ -127,7 +112,8 @@ int hits_along(void* built, const twinray_ray* ray, twinray_hit* hits, std::size
                char* error, std::size_t error_size) {
     const Built& tracer = *static_cast<const Built*>(built);
     try {
-        const std::vector<twinray::sse::Hit> along = crossings(tracer, *ray);
+        const std::vector<twinray::sse::Hit> along =
+            twinray::peers::crossings_within(tracer.tracer, sse_ray(*ray), ray->t_min, ray->t_max);
         for (std::size_t i = 0; i < along.size() && i < capacity; ++i) {
             hits[i] = abi_hit(tracer, along[i]);
         }

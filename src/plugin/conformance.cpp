@@ -32,8 +32,8 @@ double percentile(std::vector<double> values, double share) {
 }
 
 // The kinds the scene holds that the plug-in lacks, as a skipped case; nothing where it has them all.
-std::optional<CaseResult> lacking(const Plugin& plugin, const scene::Scene& scene) {
-    std::vector<std::string> missing = missing_kinds(scene, plugin.table().kinds);
+std::optional<CaseResult> lacking(const JudgedTracer& tracer, const scene::Scene& scene) {
+    std::vector<std::string> missing = tracer.missing_kinds(scene);
     if (missing.empty()) {
         return std::nullopt;
     }
@@ -56,12 +56,12 @@ const char* verdict_name(Verdict verdict) {
     return "?";
 }
 
-CaseResult judge_primary_rays(const Plugin& plugin, const scene::Scene& scene, int width, int height) {
-    if (std::optional<CaseResult> skipped = lacking(plugin, scene)) {
+CaseResult judge_primary_rays(const JudgedTracer& tracer, const scene::Scene& scene, int width, int height) {
+    if (std::optional<CaseResult> skipped = lacking(tracer, scene)) {
         return *skipped;
     }
     const reference::Tracer<double> oracle(scene);
-    const BuiltScene built(plugin, scene);
+    const std::unique_ptr<JudgedScene> built = tracer.build(scene);
     std::vector<twinray_ray> rays;
     std::vector<std::optional<reference::Hit<double>>> expected;
     for (int y = 0; y < height; ++y) {
@@ -75,7 +75,7 @@ CaseResult judge_primary_rays(const Plugin& plugin, const scene::Scene& scene, i
         }
     }
     std::vector<Hit> hits(rays.size());
-    built.intersect(rays, hits);
+    built->intersect(rays, hits);
     std::size_t hit_disagreements = 0, object_disagreements = 0, agreed = 0;
     long first_disagreement = -1;
     std::vector<double> t_errors;
@@ -94,7 +94,7 @@ CaseResult judge_primary_rays(const Plugin& plugin, const scene::Scene& scene, i
         ++agreed;
         const scene::Vec3 origin{rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]};
         const double scale = math::max_abs_component(origin) + truth->t;
-        t_errors.push_back(std::fabs(hit.t - truth->t) / (scale * plugin.unit_roundoff()));
+        t_errors.push_back(std::fabs(hit.t - truth->t) / (scale * tracer.unit_roundoff()));
         // The oracle's normal faces the ray; the plug-in's is outward: compared on the ray's side.
         const scene::Vec3 direction{rays[i].direction[0], rays[i].direction[1], rays[i].direction[2]};
         scene::Vec3 normal = math::normalize(hit.normal);
@@ -120,19 +120,19 @@ CaseResult judge_primary_rays(const Plugin& plugin, const scene::Scene& scene, i
     return result;
 }
 
-CaseResult judge_watertight(const Plugin& plugin, const std::string& family, double distance, int rays_per_size) {
+CaseResult judge_watertight(const JudgedTracer& tracer, const std::string& family, double distance, int rays_per_size) {
     accuracy::WatertightTally total;
     for (double size : accuracy::watertight_sizes()) {
         const accuracy::WatertightCase watertight =
             accuracy::make_watertight_case(family, distance, size, rays_per_size);
-        if (std::optional<CaseResult> skipped = lacking(plugin, watertight.scene)) {
+        if (std::optional<CaseResult> skipped = lacking(tracer, watertight.scene)) {
             return *skipped;
         }
-        const BuiltScene built(plugin, watertight.scene);
+        const std::unique_ptr<JudgedScene> built = tracer.build(watertight.scene);
         const accuracy::WatertightTally tally =
             accuracy::count_watertightness(watertight, [&](const accuracy::WatertightProbe& probe) {
                 int triangles = 0;
-                for (const Hit& hit : built.hits_along(probe.origin, probe.direction, 0, probe.length)) {
+                for (const Hit& hit : built->hits_along(probe.origin, probe.direction, 0, probe.length)) {
                     triangles += hit.triangle >= 0 ? 1 : 0;
                 }
                 return triangles;
@@ -157,15 +157,15 @@ std::vector<ConformCase> conformance_cases(const std::vector<NamedScene>& scenes
                                            int watertight_rays_per_size) {
     std::vector<ConformCase> cases;
     for (const NamedScene& named : scenes) {
-        cases.push_back({"primary rays", named.name, [&named, width, height](const Plugin& plugin) {
-                             return judge_primary_rays(plugin, named.scene, width, height);
+        cases.push_back({"primary rays", named.name, [&named, width, height](const JudgedTracer& tracer) {
+                             return judge_primary_rays(tracer, named.scene, width, height);
                          }});
     }
     for (double shift : {1e3, 1e5, 1e7}) {
         for (const NamedScene& named : scenes) {
             cases.push_back({"far from the origin", named.name + format(" moved %g away", shift),
-                             [&named, width, height, shift](const Plugin& plugin) {
-                                 return judge_primary_rays(plugin, numerics::transformed(named.scene, 1, shift), width,
+                             [&named, width, height, shift](const JudgedTracer& tracer) {
+                                 return judge_primary_rays(tracer, numerics::transformed(named.scene, 1, shift), width,
                                                            height);
                              }});
         }
@@ -173,8 +173,8 @@ std::vector<ConformCase> conformance_cases(const std::vector<NamedScene>& scenes
     for (const std::string& family : accuracy::watertight_families()) {
         for (double distance : accuracy::watertight_distances()) {
             cases.push_back({"watertight", family + format(" at %g", distance),
-                             [family, distance, watertight_rays_per_size](const Plugin& plugin) {
-                                 return judge_watertight(plugin, family, distance, watertight_rays_per_size);
+                             [family, distance, watertight_rays_per_size](const JudgedTracer& tracer) {
+                                 return judge_watertight(tracer, family, distance, watertight_rays_per_size);
                              }});
         }
     }

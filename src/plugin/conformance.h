@@ -1,9 +1,9 @@
-// The per-ray suites `twinray conform` runs against a plug-in (docs/plugins.md): each case judged against the
+// The per-ray suites `twinray conform` runs against a tracer (a plug-in, or the SSE tracer directly) (docs/plugins.md): each case judged against the
 // double-precision oracle with the thresholds below, in this process; the command runs each case in a child
 // process of its own, so that a plug-in that crashes or hangs costs its case a verdict, not twinray its report.
 #pragma once
 
-#include "plugin/plugin.h"
+#include "plugin/judged_tracer.h"
 #include "scene/scene.h"
 
 #include <functional>
@@ -20,7 +20,7 @@ struct CaseResult {
     std::string detail;  // the figures behind the verdict, one line
 };
 
-// The thresholds of the primary-ray cases. A hit's t error is measured in the plug-in's unit roundoffs of
+// The thresholds of the primary-ray cases. A hit's t error is measured in the tracer's unit roundoffs of
 // |o|∞ + t, the scale its rounding works at; disagreements (a hit where the oracle misses, a miss where it hits,
 // another object) as a share of the rays.
 constexpr double t_error_pass = 64;         // at most this: pass
@@ -28,17 +28,17 @@ constexpr double t_error_warn = 4096;       // at most this: warn; beyond: fail
 constexpr double disagreement_warn = 1e-3;  // a share of rays at most this: warn (0: pass); beyond: fail
 
 // Every pixel's primary ray of `scene` at width × height, against reference<double>: hit or miss, the object,
-// t and the normal. Skipped where the scene holds a kind the plug-in lacks.
-CaseResult judge_primary_rays(const Plugin& plugin, const scene::Scene& scene, int width, int height);
+// t and the normal. Skipped where the scene holds a kind the tracer lacks.
+CaseResult judge_primary_rays(const JudgedTracer& tracer, const scene::Scene& scene, int width, int height);
 
 // The watertightness suite's rays (accuracy/watertight.h) of one family at one distance, every size: each must
 // cross exactly one triangle along its length (hits_along). Any miss or double hit fails.
-CaseResult judge_watertight(const Plugin& plugin, const std::string& family, double distance, int rays_per_size);
+CaseResult judge_watertight(const JudgedTracer& tracer, const std::string& family, double distance, int rays_per_size);
 
 struct ConformCase {
     std::string suite;  // "primary rays", "far from the origin", "watertight"
     std::string name;   // within the suite
-    std::function<CaseResult(const Plugin&)> run;
+    std::function<CaseResult(const JudgedTracer&)> run;
 };
 
 struct NamedScene {

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <type_traits>
 #include <utility>
@@ -212,6 +213,27 @@ Plugin::Plugin(const std::string& path) : path_(path) {
 std::vector<std::string> missing_kinds(const scene::Scene& scene, std::uint32_t kinds) {
     FlatScene flat(scene);
     return names_missing(flat.kinds, flat.csg, kinds);
+}
+
+std::string Plugin::description() const {
+    std::string kinds;
+    for (const KindName& kind : kind_names) {
+        if ((table_->kinds & kind.kind) != 0) {
+            kinds += (kinds.empty() ? "" : ", ") + std::string(kind.name);
+        }
+    }
+    char roundoff[32];
+    std::snprintf(roundoff, sizeof roundoff, "%.3g", unit_roundoff());
+    return name() + " " + version() + " (" + (kinds.empty() ? "none" : kinds) + "; unit roundoff " + roundoff + "; " +
+           (thread_safe() ? "thread-safe" : "one thread") + ")";
+}
+
+std::vector<std::string> Plugin::missing_kinds(const scene::Scene& scene) const {
+    return plugin::missing_kinds(scene, table_->kinds);
+}
+
+std::unique_ptr<JudgedScene> Plugin::build(const scene::Scene& scene) const {
+    return std::make_unique<BuiltScene>(*this, scene);
 }
 
 BuiltScene::BuiltScene(const Plugin& plugin, const scene::Scene& scene) : plugin_(plugin) {

@@ -3,10 +3,12 @@
 // uses it, so that a wrong answer is reported with the ray that shows it (docs/plugins.md).
 #pragma once
 
+#include "plugin/judged_tracer.h"
 #include "scene/scene.h"
 #include "twinray/tracer.h"
 
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <span>
 #include <stdexcept>
@@ -37,7 +39,7 @@ class PluginFault : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-class Plugin {
+class Plugin final : public JudgedTracer {
 public:
     // Loads the library at `path` (dlopen, as a path: "./x.so" is not looked for on the library path) and
     // checks its table. The library stays loaded for the life of the process.
@@ -47,8 +49,12 @@ public:
     const twinray_tracer& table() const { return *table_; }
     std::string name() const { return table_->name; }
     std::string version() const { return table_->version; }
-    double unit_roundoff() const { return table_->unit_roundoff; }
+    double unit_roundoff() const override { return table_->unit_roundoff; }
     bool thread_safe() const { return (table_->flags & TWINRAY_TRACER_THREAD_SAFE) != 0; }
+    std::string description() const override;
+    std::vector<std::string> missing_kinds(const scene::Scene& scene) const override;
+    // Throws UnsupportedKind and PluginUnusable as BuiltScene does.
+    std::unique_ptr<JudgedScene> build(const scene::Scene& scene) const override;
 
 private:
     std::string path_;
@@ -59,37 +65,24 @@ private:
 // "csg" for any CSG (version 1 carries none).
 std::vector<std::string> missing_kinds(const scene::Scene& scene, std::uint32_t kinds);
 
-// A plug-in's hit in twinray's terms: `leaf` the scene's, `triangle` -1 off a mesh, `instance` the index among the
-// scene's instances (the meshes with a placement, in order) or -1. `normal` as the tracer gave it: unit, outward.
-struct Hit {
-    bool hit = false;
-    int leaf = -1;
-    int triangle = -1;
-    int instance = -1;
-    double t = 0;
-    scene::Vec3 normal{};
-    double u = 0, v = 0;
-    bool entering = false;
-};
-
 // The plug-in's structure for one scene, built on construction and released on destruction.
-class BuiltScene {
+class BuiltScene final : public JudgedScene {
 public:
     // Throws UnsupportedKind where the scene holds a kind the plug-in lacks, PluginUnusable where its build
     // fails.
     BuiltScene(const Plugin& plugin, const scene::Scene& scene);
-    ~BuiltScene();
+    ~BuiltScene() override;
     BuiltScene(const BuiltScene&) = delete;
     BuiltScene& operator=(const BuiltScene&) = delete;
 
     const Plugin& plugin() const { return plugin_; }
 
     // The nearest hit of each ray (hits.size() == rays.size()), each checked; throws PluginFault.
-    void intersect(std::span<const twinray_ray> rays, std::span<Hit> hits) const;
+    void intersect(std::span<const twinray_ray> rays, std::span<Hit> hits) const override;
     Hit nearest(const scene::Vec3& origin, const scene::Vec3& direction, double t_min, double t_max) const;
     // Every hit with t_min < t < t_max, by increasing t, each checked; throws PluginFault.
     std::vector<Hit> hits_along(const scene::Vec3& origin, const scene::Vec3& direction, double t_min,
-                                double t_max) const;
+                                double t_max) const override;
 
 private:
     Hit checked(const twinray_ray& ray, const twinray_hit& hit) const;
