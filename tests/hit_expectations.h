@@ -77,6 +77,7 @@ struct TracerUnderTest {
     sse::Precision precision;  // the SSE tracer's knobs
     std::string name;          // in the test's name
     double tolerance = 0;
+    const plugin::Plugin* plugin = nullptr;  // the plug-in, for TracerKind::plugin
 };
 
 // How gtest names the parameter of a failed test.
@@ -99,14 +100,18 @@ inline std::string camel_case(const std::string& knobs) {
     return name;
 }
 
-// The C example behind the tracer ABI, loaded once.
+// The C example and twinray's SSE tracer behind the tracer ABI, each loaded once.
 inline const plugin::Plugin& example_plugin() {
     static const plugin::Plugin example(TWINRAY_EXAMPLE_TRACER);
     return example;
 }
+inline const plugin::Plugin& sse_plugin() {
+    static const plugin::Plugin sse(TWINRAY_SSE_TRACER);
+    return sse;
+}
 
 // Both references, the SSE tracer with every combination of its knobs that precision_is_built, then the C
-// example through the ABI.
+// example and the SSE tracer through the ABI.
 inline std::vector<TracerUnderTest> every_tracer() {
     std::vector<TracerUnderTest> tracers;
     for (TracerKind kind : {TracerKind::reference_double, TracerKind::reference_float}) {
@@ -120,7 +125,13 @@ inline std::vector<TracerUnderTest> every_tracer() {
     tracers.push_back({TracerKind::plugin,
                        {},
                        "PluginBruteForceExample",
-                       hit_tolerance(TracerKind::plugin, {}, example_plugin().unit_roundoff())});
+                       hit_tolerance(TracerKind::plugin, {}, example_plugin().unit_roundoff()),
+                       &example_plugin()});
+    tracers.push_back({TracerKind::plugin,
+                       {},
+                       "PluginSse",
+                       hit_tolerance(TracerKind::plugin, {}, sse_plugin().unit_roundoff()),
+                       &sse_plugin()});
     return tracers;
 }
 
@@ -164,7 +175,7 @@ inline std::optional<reference::Hit<double>> first_hit(const TracerUnderTest& tr
             return hit ? std::optional(widened(*hit)) : std::nullopt;
         }
         case TracerKind::plugin: {
-            plugin::Hit hit = plugin::BuiltScene(example_plugin(), scene)
+            plugin::Hit hit = plugin::BuiltScene(*tracer.plugin, scene)
                                   .nearest(origin, unit, 0, std::numeric_limits<double>::infinity());
             if (!hit.hit) {
                 return std::nullopt;
@@ -187,7 +198,7 @@ inline std::optional<reference::Hit<double>> first_hit(const TracerUnderTest& tr
 class HitExpectation : public ::testing::TestWithParam<TracerUnderTest> {
 protected:
     void SetUp() override {
-        if (GetParam().kind == TracerKind::sse && !sse::cpu_supports_sse41()) {
+        if ((GetParam().kind == TracerKind::sse || GetParam().plugin == &sse_plugin()) && !sse::cpu_supports_sse41()) {
             GTEST_SKIP() << sse::missing_sse41_message();
         }
     }
@@ -208,7 +219,7 @@ protected:
         if (GetParam().kind != TracerKind::plugin) {
             return false;
         }
-        std::vector<std::string> missing = plugin::missing_kinds(scene, example_plugin().table().kinds);
+        std::vector<std::string> missing = GetParam().plugin->missing_kinds(scene);
         if (missing.empty()) {
             return false;
         }
