@@ -570,8 +570,12 @@ Ray<T> Tracer<T>::primary_ray(int x, int y, int width, int height) const {
 
 template <typename T>
 RenderResult render(const scene::Scene& scene, const RenderOptions& options, const ExternalIntersector<T>* external) {
+    return render(Tracer<T>(scene, options.accel, external), scene, options);
+}
+
+template <typename T>
+RenderResult render(const Tracer<T>& tracer, const scene::Scene& scene, const RenderOptions& options) {
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer<T> tracer(scene, options.accel, external);
     Image image(size.width, size.height);
     const auto start = std::chrono::steady_clock::now();
     const double cpu_start = process_cpu_seconds();
@@ -596,5 +600,7 @@ template class Tracer<double>;
 template class Tracer<float>;
 template RenderResult render<double>(const scene::Scene&, const RenderOptions&, const ExternalIntersector<double>*);
 template RenderResult render<float>(const scene::Scene&, const RenderOptions&, const ExternalIntersector<float>*);
+template RenderResult render<double>(const Tracer<double>&, const scene::Scene&, const RenderOptions&);
+template RenderResult render<float>(const Tracer<float>&, const scene::Scene&, const RenderOptions&);
 
 }  // namespace twinray::reference

@@ -161,11 +161,17 @@ template <typename T>
 RenderResult render(const scene::Scene& scene, const RenderOptions& options,
                     const ExternalIntersector<T>* external = nullptr);
 
+// With a tracer built for `scene` (options.accel is not read).
+template <typename T>
+RenderResult render(const Tracer<T>& tracer, const scene::Scene& scene, const RenderOptions& options);
+
 extern template class Tracer<double>;
 extern template class Tracer<float>;
 extern template RenderResult render<double>(const scene::Scene&, const RenderOptions&,
                                             const ExternalIntersector<double>*);
 extern template RenderResult render<float>(const scene::Scene&, const RenderOptions&,
                                            const ExternalIntersector<float>*);
+extern template RenderResult render<double>(const Tracer<double>&, const scene::Scene&, const RenderOptions&);
+extern template RenderResult render<float>(const Tracer<float>&, const scene::Scene&, const RenderOptions&);
 
 }  // namespace twinray::reference

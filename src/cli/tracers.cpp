@@ -1,96 +1,22 @@
 #include "cli/tracers.h"
 
-#include "plugin/plugin_intersector.h"
 #include "reference/tracer.h"
-#include "sse/cpu.h"
 #include "sse/tracer.h"
 
-#include <functional>
-#include <map>
-#include <stdexcept>
+#include <algorithm>
 #include <string_view>
 
 namespace twinray::cli {
-namespace {
-
-struct TracerEntry {
-    std::string description;
-    std::function<RenderResult(const scene::Scene&, const RenderOptions&, const sse::Precision&)> render;
-};
-
-constexpr std::string_view plugin_prefix = "plugin:";
-
-const std::map<std::string, TracerEntry>& registry() {
-    static const std::map<std::string, TracerEntry> tracers = {
-        {"reference",
-         {"scalar double-precision reference (the oracle)",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&) {
-              return reference::render<double>(scene, options);
-          }}},
-        {"reference-float",
-         {"the reference's code in single precision",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision&) {
-              return reference::render<float>(scene, options);
-          }}},
-        {"sse",
-         {"single-precision SSE4.1 tracer, the fast one",
-          [](const scene::Scene& scene, const RenderOptions& options, const sse::Precision& precision) {
-              return sse::render(scene, options, precision);
-          }}},
-    };
-    return tracers;
-}
-
-}  // namespace
-
-const std::vector<std::string>& tracer_names() {
-    static const std::vector<std::string> names = [] {
-        std::vector<std::string> all;
-        for (const auto& [name, entry] : registry()) {
-            all.push_back(name);
-        }
-        return all;
-    }();
-    return names;
-}
-
-bool is_plugin(const std::string& tracer_name) {
-    return tracer_name.starts_with(plugin_prefix);
-}
-
-std::string tracer_description(const std::string& name) {
-    return registry().at(name).description;
-}
-
-std::string tracer_unavailable_reason(const std::string& name) {
-    if (name == "sse" && !sse::cpu_supports_sse41()) {
-        return sse::missing_sse41_message();
-    }
-    return "";
-}
 
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
                          const sse::Precision& precision) {
-    if (std::string problem = precision_problem(tracer_name, precision); !problem.empty()) {
-        throw std::invalid_argument(problem);
-    }
-    if (is_plugin(tracer_name)) {
-        const plugin::Plugin loaded(tracer_name.substr(plugin_prefix.size()));
-        const plugin::BuiltScene built(loaded, scene);
-        const plugin::PluginIntersector intersector(built);
-        return reference::render<double>(scene, options, &intersector);
-    }
-    auto entry = registry().find(tracer_name);
-    if (entry == registry().end()) {
-        throw std::invalid_argument("unknown tracer \"" + tracer_name + "\"");
-    }
-    return entry->second.render(scene, options, precision);
+    return tracing::make_tracer(tracer_name, scene, precision, options.accel)->render(options);
 }
 
 void add_tracer_option(CLI::App& command, std::string& tracer) {
     std::string help = "Tracer:";
     for (const std::string& name : tracer_names()) {
-        help += " " + name + " (" + tracer_description(name) + ");";
+        help += " " + name + " (" + tracing::tracer_summary(name) + ");";
     }
     help +=
         " or plugin:PATH (a tracer behind include/twinray/tracer.h, its hits shaded by the reference in double; "
@@ -98,7 +24,9 @@ void add_tracer_option(CLI::App& command, std::string& tracer) {
     command.add_option("--tracer", tracer, help)
         ->check(CLI::Validator(
             [](const std::string& name) -> std::string {
-                if (registry().count(name) != 0 || (is_plugin(name) && name.size() > plugin_prefix.size())) {
+                const std::vector<std::string>& names = tracer_names();
+                if (std::find(names.begin(), names.end(), name) != names.end() ||
+                    (is_plugin(name) && name.size() > std::string_view("plugin:").size())) {
                     return "";
                 }
                 std::string known;
@@ -132,20 +60,6 @@ void add_precision_options(CLI::App& command, sse::Precision& precision) {
             },
             "sse: a preset: exact (the default) or fast (--fast-rcp --fast-rsqrt --textbook-quadratic --ftz)")
         ->check(CLI::IsMember({"exact", "fast"}));
-}
-
-std::string precision_problem(const std::string& tracer_name, const sse::Precision& precision) {
-    if (precision == sse::Precision{}) {
-        return "";
-    }
-    if (tracer_name != "sse") {
-        return "precision knobs (" + sse::precision_name(precision) + ") apply to --tracer sse only";
-    }
-    if (!sse::precision_is_built(precision)) {
-        return "the SSE tracer is not built for the knobs " + sse::precision_name(precision) +
-               "; built: " + sse::built_precisions();
-    }
-    return "";
 }
 
 void add_accel_option(CLI::App& command, Accel& accel) {

@@ -13,49 +13,9 @@
 #include <optional>
 
 namespace twinray::numerics {
-namespace {
-
-template <typename H>
-FirstHit first_hit(const std::optional<H>& hit) {
-    if (!hit) {
-        return {};
-    }
-    return {true, hit->leaf, static_cast<double>(hit->t), recorded(hit->point), recorded(hit->normal)};
-}
-
-// Either tracer behind AnyTracer: `Ray` its own ray type, whose members are built from double vectors
-// (rounded to the tracer's precision where its member is in float).
-template <typename Tracer, typename Ray>
-class TracerAdapter final : public AnyTracer {
-public:
-    explicit TracerAdapter(const scene::Scene& scene) : tracer_(scene) {}
-    void trace_primary(int x, int y, int width, int height, RayTree& tree) const override {
-        tracer_.trace(tracer_.primary_ray(x, y, width, height), 1, nullptr, &tree);
-    }
-    FirstHit primary_hit(int x, int y, int width, int height) const override {
-        return first_hit(tracer_.intersect(tracer_.primary_ray(x, y, width, height)));
-    }
-    FirstHit intersect(const Vec3d& o, const Vec3d& d) const override {
-        return first_hit(tracer_.intersect(Ray{decltype(Ray::origin)(o), decltype(Ray::direction)(d)}));
-    }
-
-private:
-    Tracer tracer_;
-};
-
-template <typename T>
-using ReferenceTracer = TracerAdapter<reference::Tracer<T>, reference::Ray<T>>;
-using SseTracer = TracerAdapter<sse::Tracer, sse::Ray>;
-
-}  // namespace
 
 std::unique_ptr<AnyTracer> make_tracer(const scene::Scene& scene, TracerKind kind) {
-    switch (kind) {
-        case TracerKind::reference_double: return std::make_unique<ReferenceTracer<double>>(scene);
-        case TracerKind::reference_float: return std::make_unique<ReferenceTracer<float>>(scene);
-        case TracerKind::sse: return std::make_unique<SseTracer>(scene);
-    }
-    return nullptr;
+    return tracing::make_tracer(tracer_name(kind), scene);
 }
 
 namespace {

@@ -5,6 +5,7 @@
 
 #include "render/ray_tree.h"
 #include "scene/scene.h"
+#include "tracing/any_tracer.h"
 
 #include <memory>
 #include <string>
@@ -16,25 +17,12 @@ enum class TracerKind { reference_double, reference_float, sse };
 
 const char* tracer_name(TracerKind kind);
 
-// What the measurements need of a tracer, in double whatever its precision: its primary rays, its ray
-// tree, and intersect() of any ray (rounded to the tracer's precision on the way in).
-struct FirstHit {
-    bool hit = false;
-    int leaf = -1;
-    double t = 0;
-    Vec3d point{};
-    Vec3d normal{};
-};
+// The measurements hold the tracers by the interface every judge holds (tracing/any_tracer.h).
+using tracing::AnyTracer;
+using tracing::FirstHit;
+using Vec3d = tracing::Vec3d;
 
-class AnyTracer {
-public:
-    virtual ~AnyTracer() = default;
-    virtual void trace_primary(int x, int y, int width, int height, RayTree& tree) const = 0;
-    virtual FirstHit primary_hit(int x, int y, int width, int height) const = 0;
-    virtual FirstHit intersect(const Vec3d& origin, const Vec3d& direction) const = 0;
-};
-
-// For TracerKind::sse the CPU must support SSE4.1.
+// tracing::make_tracer of the tracer tracer_name(kind) names. For TracerKind::sse the CPU must support SSE4.1.
 std::unique_ptr<AnyTracer> make_tracer(const scene::Scene& scene, TracerKind kind);
 
 // The scene scaled by `scale` about the origin, then moved by `shift` along every axis: camera, lights

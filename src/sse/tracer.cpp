@@ -221,8 +221,12 @@ RenderResult render(const scene::Scene& scene, const RenderOptions& options) {
 }
 
 RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision) {
+    return render(Tracer(scene, precision, options.accel), scene, options);
+}
+
+RenderResult render(const Tracer& tracer, const scene::Scene& scene, const RenderOptions& options) {
+    const Precision& precision = tracer.precision();
     scene::ImageSize size = scene::resolve_image_size(scene, options.width, options.height);
-    Tracer tracer(scene, precision, options.accel);
     Image image(size.width, size.height);
     const auto start = std::chrono::steady_clock::now();
     const double cpu_start = process_cpu_seconds();

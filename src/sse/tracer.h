@@ -112,6 +112,7 @@ public:
     int mesh_crossings(const Ray& ray, float distance) const;
 
     const CompiledScene& compiled() const { return *scene_; }
+    const Precision& precision() const { return precision_; }
     BvhStats bvh_stats() const;
 
 private:
@@ -121,6 +122,8 @@ private:
 
 RenderResult render(const scene::Scene& scene, const RenderOptions& options);
 RenderResult render(const scene::Scene& scene, const RenderOptions& options, const Precision& precision);
+// With a tracer built for `scene` (its knobs and structure; options.accel is not read).
+RenderResult render(const Tracer& tracer, const scene::Scene& scene, const RenderOptions& options);
 
 // Primary rays only: every pixel's nearest hit (the same packets, tile culling and intersection as
 // render, with the normal), no shading. The first-hit speed to hold against other ray casters (Embree).
