@@ -30,8 +30,9 @@ TEST(Attribution, EveryPixelOfEverySceneThatDiffersHasAnExplainedCause) {
         RenderOptions options;
         options.threads = 2;
         Image expected = reference::render<double>(scene, options).image;
-        Image actual = sse::render(scene, options).image;
-        accuracy::Attribution attribution = accuracy::attribute_pixels(scene, expected, actual, judged_above);
+        const std::unique_ptr<tracing::AnyTracer> sse = tracing::make_tracer("sse", scene);
+        Image actual = sse->render(options).image;
+        accuracy::Attribution attribution = accuracy::attribute_pixels(scene, expected, actual, *sse, judged_above);
         std::printf("[ measured ] %-10s", path.stem().c_str());
         for (int c = 0; c < accuracy::cause_count; ++c) {
             std::printf(" %s %ld", accuracy::cause_name(static_cast<accuracy::Cause>(c)),

@@ -460,23 +460,22 @@ PixelCause attribute(const scene::Scene& scene, const reference::Tracer<double>&
     return attribute_with(scene, curvatures(scene), reference, expected, actual);
 }
 
-Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_image, const Image& sse_image,
-                             double threshold) {
+Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_image, const Image& actual_image,
+                             const tracing::AnyTracer& actual, double threshold) {
     const int width = reference_image.width(), height = reference_image.height();
     reference::Tracer<double> reference(scene);
-    sse::Tracer sse(scene);
     std::vector<Curvature> curvature = curvatures(scene);
     Attribution attribution;
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
-            double error = compare::largest_channel_difference(reference_image.at(x, y), sse_image.at(x, y));
+            double error = compare::largest_channel_difference(reference_image.at(x, y), actual_image.at(x, y));
             if (!(error > threshold)) {
                 continue;
             }
-            RayTree expected, actual;
+            RayTree expected, traced;
             reference.trace(reference.primary_ray(x, y, width, height), 1, nullptr, &expected);
-            sse.trace(sse.primary_ray(x, y, width, height), 1, nullptr, &actual);
-            PixelCause cause = attribute_with(scene, curvature, reference, expected, actual);
+            actual.trace_primary(x, y, width, height, traced);
+            PixelCause cause = attribute_with(scene, curvature, reference, expected, traced);
             ++attribution.counts[static_cast<std::size_t>(cause.cause)];
             if (cause.cause == Cause::unexplained) {
                 attribution.unexplained.push_back({x, y, error, cause});

@@ -11,6 +11,7 @@
 #include "reference/tracer.h"
 #include "render/ray_tree.h"
 #include "scene/scene.h"
+#include "tracing/any_tracer.h"
 
 #include <array>
 #include <string>
@@ -52,8 +53,10 @@ struct Attribution {
     std::array<long, cause_count> counts{};
     std::vector<AttributedPixel> unexplained;  // the largest errors first, at most max_unexplained_listed
 };
-Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_image, const Image& sse_image,
-                             double threshold);
+// `actual` is the tracer that rendered `actual_image` (the SSE tracer, or a plug-in's hits shaded by the reference):
+// its ray trees are held against reference<double>'s.
+Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_image, const Image& actual_image,
+                             const tracing::AnyTracer& actual, double threshold);
 
 // The verdict rule (docs/conformance.md, "Why a pixel differs"): a scene fails when any pixel is unexplained,
 // or when the pixels of an explained class exceed its budget, a share of the image's pixels. Drift has no

@@ -9,6 +9,7 @@
 #include "compare/tolerances.h"
 #include "image/image_file.h"
 #include "io/atomic_file.h"
+#include "plugin/plugin.h"
 #include "pov/exporter.h"
 #include "pov/povray_runner.h"
 #include "scene/loader.h"
@@ -39,6 +40,7 @@ struct DiffArguments {
     bool with_povray = false;
     std::string json_path;
     Accel accel = Accel::automatic;
+    std::string tracer = default_tracer;  // the tracer judged against the reference
 };
 
 struct TimedRender {
@@ -48,11 +50,10 @@ struct TimedRender {
 
 // The image as stored (clamped) and the time spent tracing it: the tracer's set-up (compiling the scene) is
 // left out, as is loading the scene, so the speed-up compares tracing with tracing.
-TimedRender timed_render(const std::string& tracer, const scene::Scene& scene, int width, Accel accel) {
+TimedRender timed_render(const tracing::AnyTracer& tracer, int width) {
     RenderOptions options;
     options.width = width;
-    options.accel = accel;
-    RenderResult result = render_with(tracer, scene, options);
+    RenderResult result = tracer.render(options);
     return {compare::clamped(result.image), result.tracing_seconds};
 }
 
@@ -139,7 +140,7 @@ PovrayColumn povray_column(const fs::path& povray, const scene::Scene& scene, co
 }
 
 int run_diff(const DiffArguments& arguments) {
-    if (std::string reason = tracer_unavailable_reason("sse"); !reason.empty()) {
+    if (std::string reason = tracer_unavailable_reason(arguments.tracer); !reason.empty()) {
         std::cerr << "twinray diff: " << reason << "\n";
         return exit_cpu_unsupported;
     }
@@ -189,8 +190,11 @@ int run_diff(const DiffArguments& arguments) {
             report.name = fs::path(path).stem().string();
             report.scene_path = path;
             report.tolerances = manifest.for_scene(report.name);
-            TimedRender reference = timed_render("reference", scene, arguments.width, arguments.accel);
-            TimedRender sse = timed_render("sse", scene, arguments.width, arguments.accel);
+            const std::unique_ptr<tracing::AnyTracer> judged =
+                tracing::make_tracer(arguments.tracer, scene, {}, arguments.accel);
+            TimedRender reference =
+                timed_render(*tracing::make_tracer("reference", scene, {}, arguments.accel), arguments.width);
+            TimedRender sse = timed_render(*judged, arguments.width);
             report.reference_seconds = reference.seconds;
             report.sse_seconds = sse.seconds;
             report.width = reference.image.width();
@@ -201,7 +205,7 @@ int run_diff(const DiffArguments& arguments) {
             report.clusters = compare::failing_clusters(reference.image, sse.image, report.tolerances.sse.fail,
                                                         cluster_gap, max_clusters);
             report.attribution =
-                accuracy::attribute_pixels(scene, reference.image, sse.image, report.tolerances.sse.warn);
+                accuracy::attribute_pixels(scene, reference.image, sse.image, *judged, report.tolerances.sse.warn);
             report.attribution_failure = accuracy::attribution_failure(report.attribution, report.metrics.pixel_count);
             if (!report.attribution_failure.empty()) {
                 report.verdict = compare::Verdict::fail;
@@ -243,6 +247,15 @@ int run_diff(const DiffArguments& arguments) {
     } catch (const pov::PovrayError& error) {
         std::cerr << "twinray diff: " << error.what() << "\n";
         return exit_internal_error;
+    } catch (const plugin::UnsupportedKind& refusal) {
+        std::cerr << "twinray diff: " << refusal.what() << "\n";
+        return exit_plugin_lacks_kind;
+    } catch (const plugin::PluginUnusable& unusable) {
+        std::cerr << "twinray diff: " << unusable.what() << "\n";
+        return exit_plugin_unusable;
+    } catch (const plugin::PluginFault& fault) {
+        std::cerr << "twinray diff: " << fault.what() << "\n";
+        return exit_plugin_fault;
     }
     std::printf("report: %s\n", (folder / "index.html").string().c_str());
     return static_cast<int>(worst_verdict);
@@ -254,11 +267,13 @@ void add_diff_command(CLI::App& app, std::function<int()>& run) {
     auto arguments = std::make_shared<DiffArguments>();
     CLI::App* command = app.add_subcommand(
         "diff",
-        "Render each scene with the reference and the SSE tracer and write, per scene, both images, an error heat\n"
+        "Render each scene with the reference and the SSE tracer (or --tracer's) and write, per scene, both images, an "
+        "error heat\n"
         "map (logarithmic, 1e-7 to 1), a mask of failing pixels and DIR/index.html, a report for triage that opens\n"
         "from disk: failures first, a filter, failing clusters boxed, the commands to probe and approve. Prints\n"
         "one line per scene.\n"
-        "Exit status: the worst verdict, 0 pass, 1 warn, 2 fail; 2 also for an invalid scene, 3 unwritable DIR.");
+        "Exit status: the worst verdict, 0 pass, 1 warn, 2 fail; 2 also for an invalid scene, 3 unwritable DIR;\n"
+        "7, 8, 9 a plug-in that cannot be used, lacks a kind, breaks the contract (README).");
     command->add_option("scenes", arguments->scenes, "Scene files")->required();
     command->add_option("-o,--output", arguments->output_folder, "Folder for the report (created if missing)")
         ->required();
@@ -281,6 +296,7 @@ void add_diff_command(CLI::App& app, std::function<int()>& run) {
         "--pov", arguments->with_povray,
         "Also render each scene with POV-Ray 3.7 (twinray pov) and show its image and error map against the reference");
     add_accel_option(*command, arguments->accel);
+    add_tracer_option(*command, arguments->tracer);
     command->callback([arguments, &run] { run = [arguments] { return run_diff(*arguments); }; });
 }
 
