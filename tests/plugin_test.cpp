@@ -2,6 +2,7 @@
 // lacks is refused by name, its hits come back as the oracle's, and every way of breaking the contract is
 // reported with the ray that shows it (tests/plugins/faulty_tracer.c).
 #include "plugin/plugin.h"
+#include "plugin/conformance.h"
 #include "plugin/plugin_intersector.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
@@ -125,18 +126,10 @@ TEST(PluginAbi, TheExampleAgreesWithTheOracleOnEveryPrimaryRayOfTheSpheresScene)
     const reference::Tracer<double> oracle(scene);
     plugin::BuiltScene built(example(), scene);
     const int width = 80, height = 60;
-    std::vector<twinray_ray> rays;
+    const std::vector<twinray_ray> rays = plugin::primary_rays(oracle, width, height);
     std::vector<std::optional<reference::Hit<double>>> expected;
-    for (int y = 0; y < height; ++y) {
-        for (int x = 0; x < width; ++x) {
-            const reference::Ray<double> ray = oracle.primary_ray(x, y, width, height);
-            twinray_ray flat{{ray.origin.x, ray.origin.y, ray.origin.z},
-                             {ray.direction.x, ray.direction.y, ray.direction.z},
-                             0,
-                             infinity};
-            rays.push_back(flat);
-            expected.push_back(oracle.intersect(ray));
-        }
+    for (const twinray_ray& ray : rays) {
+        expected.push_back(oracle.intersect({plugin::origin_of(ray), plugin::direction_of(ray)}));
     }
     std::vector<plugin::Hit> hits(rays.size());
     built.intersect(rays, hits);
@@ -150,9 +143,7 @@ TEST(PluginAbi, TheExampleAgreesWithTheOracleOnEveryPrimaryRayOfTheSpheresScene)
         }
         ++hit_count;
         ASSERT_EQ(hits[i].leaf, expected[i]->leaf);
-        const double scale =
-            std::max({std::fabs(rays[i].origin[0]), std::fabs(rays[i].origin[1]), std::fabs(rays[i].origin[2])}) +
-            expected[i]->t;
+        const double scale = math::max_abs_component(plugin::origin_of(rays[i])) + expected[i]->t;
         worst = std::max(worst, std::fabs(hits[i].t - expected[i]->t) / (scale * example().unit_roundoff()));
     }
     EXPECT_GT(hit_count, width * height / 10);

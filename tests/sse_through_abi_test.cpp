@@ -74,17 +74,7 @@ TEST_F(SseThroughAbi, EveryPrimaryRayAndEveryCrossingAlongItIsTheDirectTracersBi
         const reference::Tracer<double> oracle(named.scene);
         const std::unique_ptr<plugin::JudgedScene> direct_scene = direct.build(named.scene);
         const std::unique_ptr<plugin::JudgedScene> abi_scene = through_abi().build(named.scene);
-        std::vector<twinray_ray> rays;
-        constexpr int width = 48, height = 36;
-        for (int y = 0; y < height; ++y) {
-            for (int x = 0; x < width; ++x) {
-                const reference::Ray<double> ray = oracle.primary_ray(x, y, width, height);
-                rays.push_back({{ray.origin.x, ray.origin.y, ray.origin.z},
-                                {ray.direction.x, ray.direction.y, ray.direction.z},
-                                0,
-                                std::numeric_limits<double>::infinity()});
-            }
-        }
+        const std::vector<twinray_ray> rays = plugin::primary_rays(oracle, 48, 36);
         std::vector<plugin::Hit> direct_hits(rays.size()), abi_hits(rays.size());
         direct_scene->intersect(rays, direct_hits);
         abi_scene->intersect(rays, abi_hits);
@@ -94,8 +84,7 @@ TEST_F(SseThroughAbi, EveryPrimaryRayAndEveryCrossingAlongItIsTheDirectTracersBi
             differing += nearest.empty() ? 0 : 1;
             EXPECT_EQ(nearest, "") << named.name << ", ray " << i;
             hits += direct_hits[i].hit ? 1 : 0;
-            const scene::Vec3 origin{rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]};
-            const scene::Vec3 direction{rays[i].direction[0], rays[i].direction[1], rays[i].direction[2]};
+            const scene::Vec3 origin = plugin::origin_of(rays[i]), direction = plugin::direction_of(rays[i]);
             const std::vector<plugin::Hit> direct_along =
                 direct_scene->hits_along(origin, direction, 0, std::numeric_limits<double>::infinity());
             const std::vector<plugin::Hit> abi_along =

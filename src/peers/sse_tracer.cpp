@@ -5,6 +5,7 @@
 // to float as the direct path rounds it, a hit's float t and normal widened exactly.
 #include "peers/sse_segment.h"
 #include "plugin/abi_scene.h"
+#include "plugin/judged_tracer.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
 #include "twinray/tracer.h"
@@ -34,8 +35,7 @@ void write_error(char* error, std::size_t error_size, const char* message) {
 }
 
 twinray::sse::Ray sse_ray(const twinray_ray& ray) {
-    return twinray::peers::sse_ray({ray.origin[0], ray.origin[1], ray.origin[2]},
-                                   {ray.direction[0], ray.direction[1], ray.direction[2]});
+    return twinray::peers::sse_ray(twinray::plugin::origin_of(ray), twinray::plugin::direction_of(ray));
 }
 
 // The hit point's barycentrics in its triangle, in double: the ABI's u and v (the SSE tracer finds t, not them).

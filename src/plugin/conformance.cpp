@@ -56,23 +56,27 @@ const char* verdict_name(Verdict verdict) {
     return "?";
 }
 
+std::vector<twinray_ray> primary_rays(const reference::Tracer<double>& oracle, int width, int height) {
+    std::vector<twinray_ray> rays;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const reference::Ray<double> ray = oracle.primary_ray(x, y, width, height);
+            rays.push_back(abi_ray(ray.origin, ray.direction, 0, std::numeric_limits<double>::infinity()));
+        }
+    }
+    return rays;
+}
+
 CaseResult judge_primary_rays(const JudgedTracer& tracer, const scene::Scene& scene, int width, int height) {
     if (std::optional<CaseResult> skipped = lacking(tracer, scene)) {
         return *skipped;
     }
     const reference::Tracer<double> oracle(scene);
     const std::unique_ptr<JudgedScene> built = tracer.build(scene);
-    std::vector<twinray_ray> rays;
+    const std::vector<twinray_ray> rays = primary_rays(oracle, width, height);
     std::vector<std::optional<reference::Hit<double>>> expected;
-    for (int y = 0; y < height; ++y) {
-        for (int x = 0; x < width; ++x) {
-            const reference::Ray<double> ray = oracle.primary_ray(x, y, width, height);
-            rays.push_back({{ray.origin.x, ray.origin.y, ray.origin.z},
-                            {ray.direction.x, ray.direction.y, ray.direction.z},
-                            0,
-                            std::numeric_limits<double>::infinity()});
-            expected.push_back(oracle.intersect(ray));
-        }
+    for (const twinray_ray& ray : rays) {
+        expected.push_back(oracle.intersect({origin_of(ray), direction_of(ray)}));
     }
     std::vector<Hit> hits(rays.size());
     built->intersect(rays, hits);
@@ -92,11 +96,10 @@ CaseResult judge_primary_rays(const JudgedTracer& tracer, const scene::Scene& sc
             continue;
         }
         ++agreed;
-        const scene::Vec3 origin{rays[i].origin[0], rays[i].origin[1], rays[i].origin[2]};
-        const double scale = math::max_abs_component(origin) + truth->t;
+        const double scale = math::max_abs_component(origin_of(rays[i])) + truth->t;
         t_errors.push_back(std::fabs(hit.t - truth->t) / (scale * tracer.unit_roundoff()));
         // The oracle's normal faces the ray; the plug-in's is outward: compared on the ray's side.
-        const scene::Vec3 direction{rays[i].direction[0], rays[i].direction[1], rays[i].direction[2]};
+        const scene::Vec3 direction = direction_of(rays[i]);
         scene::Vec3 normal = math::normalize(hit.normal);
         normal = math::dot(normal, direction) > 0 ? -normal : normal;
         const double cosine = std::clamp(math::dot(normal, truth->normal), -1.0, 1.0);

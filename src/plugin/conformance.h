@@ -4,6 +4,7 @@
 #pragma once
 
 #include "plugin/judged_tracer.h"
+#include "reference/tracer.h"
 #include "scene/scene.h"
 
 #include <functional>
@@ -26,6 +27,9 @@ struct CaseResult {
 constexpr double t_error_pass = 64;         // at most this: pass
 constexpr double t_error_warn = 4096;       // at most this: warn; beyond: fail
 constexpr double disagreement_warn = 1e-3;  // a share of rays at most this: warn (0: pass); beyond: fail
+
+// Every pixel's primary ray of the oracle's camera at width × height, row by row, as the ABI passes rays: t > 0.
+std::vector<twinray_ray> primary_rays(const reference::Tracer<double>& oracle, int width, int height);
 
 // Every pixel's primary ray of `scene` at width × height, against reference<double>: hit or miss, the object,
 // t and the normal. Skipped where the scene holds a kind the tracer lacks.

@@ -23,8 +23,8 @@ public:
     void intersect(std::span<const twinray_ray> rays, std::span<Hit> hits) const override {
         for (std::size_t i = 0; i < rays.size(); ++i) {
             const twinray_ray& ray = rays[i];
-            const std::optional<sse::Hit> nearest = peers::nearest_within(
-                tracer_, peers::sse_ray(vec(ray.origin), vec(ray.direction)), ray.t_min, ray.t_max);
+            const std::optional<sse::Hit> nearest =
+                peers::nearest_within(tracer_, peers::sse_ray(origin_of(ray), direction_of(ray)), ray.t_min, ray.t_max);
             hits[i] = nearest ? judged(*nearest) : Hit{};
         }
     }
@@ -39,8 +39,6 @@ public:
     }
 
 private:
-    static scene::Vec3 vec(const double (&v)[3]) { return {v[0], v[1], v[2]}; }
-
     // As the plug-in gives it: the tracer's normal faces the ray, the outward one is it where the ray enters.
     // Barycentrics are the plug-in's own work and no judge reads them.
     Hit judged(const sse::Hit& hit) const {

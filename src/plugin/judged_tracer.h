@@ -28,6 +28,17 @@ struct Hit {
     bool entering = false;
 };
 
+// A ray as the ABI passes it, and back.
+inline twinray_ray abi_ray(const scene::Vec3& origin, const scene::Vec3& direction, double t_min, double t_max) {
+    return {{origin.x, origin.y, origin.z}, {direction.x, direction.y, direction.z}, t_min, t_max};
+}
+inline scene::Vec3 origin_of(const twinray_ray& ray) {
+    return {ray.origin[0], ray.origin[1], ray.origin[2]};
+}
+inline scene::Vec3 direction_of(const twinray_ray& ray) {
+    return {ray.direction[0], ray.direction[1], ray.direction[2]};
+}
+
 // A tracer's structure for one scene.
 class JudgedScene {
 public:

@@ -346,18 +346,7 @@ void BuiltScene::intersect(std::span<const twinray_ray> rays, std::span<Hit> hit
     }
 }
 
-namespace {
-
-twinray_ray abi_ray(const scene::Vec3& origin, const scene::Vec3& direction, double t_min, double t_max) {
-    twinray_ray ray{};
-    put(ray.origin, origin);
-    put(ray.direction, direction);
-    ray.t_min = t_min;
-    ray.t_max = t_max;
-    return ray;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 Hit BuiltScene::nearest(const scene::Vec3& origin, const scene::Vec3& direction, double t_min, double t_max) const {
     const twinray_ray ray = abi_ray(origin, direction, t_min, t_max);
