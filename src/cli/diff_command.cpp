@@ -247,15 +247,9 @@ int run_diff(const DiffArguments& arguments) {
     } catch (const pov::PovrayError& error) {
         std::cerr << "twinray diff: " << error.what() << "\n";
         return exit_internal_error;
-    } catch (const plugin::UnsupportedKind& refusal) {
-        std::cerr << "twinray diff: " << refusal.what() << "\n";
-        return exit_plugin_lacks_kind;
-    } catch (const plugin::PluginUnusable& unusable) {
-        std::cerr << "twinray diff: " << unusable.what() << "\n";
-        return exit_plugin_unusable;
-    } catch (const plugin::PluginFault& fault) {
-        std::cerr << "twinray diff: " << fault.what() << "\n";
-        return exit_plugin_fault;
+    } catch (const plugin::PluginError& error) {
+        std::cerr << "twinray diff: " << error.what() << "\n";
+        return plugin_exit_status(error);
     }
     std::printf("report: %s\n", (folder / "index.html").string().c_str());
     return static_cast<int>(worst_verdict);

@@ -219,18 +219,12 @@ int run_render(const RenderArguments& arguments) {
         clear_progress();
         std::cerr << "twinray render: interrupted; " << output.string() << " was not written\n";
         return exit_interrupted;
-    } catch (const plugin::UnsupportedKind& refusal) {
+    } catch (const plugin::PluginError& error) {
         clear_progress();
-        std::cerr << "twinray render: " << refusal.what() << "\n";
-        return exit_plugin_lacks_kind;
-    } catch (const plugin::PluginUnusable& unusable) {
-        clear_progress();
-        std::cerr << "twinray render: " << unusable.what() << "\n";
-        return exit_plugin_unusable;
-    } catch (const plugin::PluginFault& fault) {
-        clear_progress();
-        std::cerr << "twinray render: " << fault.what() << "; " << output.string() << " was not written\n";
-        return exit_plugin_fault;
+        const int status = plugin_exit_status(error);
+        std::cerr << "twinray render: " << error.what()
+                  << (status == exit_plugin_fault ? "; " + output.string() + " was not written" : "") << "\n";
+        return status;
     }
     const double render_seconds = seconds_since(start);
     clear_progress();

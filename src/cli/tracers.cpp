@@ -1,5 +1,7 @@
 #include "cli/tracers.h"
 
+#include "cli/exit_codes.h"
+
 #include "reference/tracer.h"
 #include "sse/tracer.h"
 
@@ -11,6 +13,13 @@ namespace twinray::cli {
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
                          const sse::Precision& precision) {
     return tracing::make_tracer(tracer_name, scene, precision, options.accel)->render(options);
+}
+
+int plugin_exit_status(const plugin::PluginError& error) {
+    if (dynamic_cast<const plugin::UnsupportedKind*>(&error) != nullptr) {
+        return exit_plugin_lacks_kind;
+    }
+    return dynamic_cast<const plugin::PluginFault*>(&error) != nullptr ? exit_plugin_fault : exit_plugin_unusable;
 }
 
 void add_tracer_option(CLI::App& command, std::string& tracer) {

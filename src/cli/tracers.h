@@ -1,6 +1,7 @@
 // The tracers a user can pick with --tracer, by name.
 #pragma once
 
+#include "plugin/plugin.h"
 #include "render/render.h"
 #include "scene/scene.h"
 #include "sse/tracer.h"
@@ -22,6 +23,9 @@ inline const char* default_tracer = "sse";
 // The tracer's image (tracing::make_tracer, then render): its errors are make_tracer's.
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
                          const sse::Precision& precision = {});
+
+// The exit status of a plug-in's error (README): a kind it lacks, unusable, a broken contract.
+int plugin_exit_status(const plugin::PluginError& error);
 
 // --tracer NAME or plugin:PATH.
 void add_tracer_option(CLI::App& command, std::string& tracer);

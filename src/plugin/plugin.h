@@ -17,10 +17,15 @@
 
 namespace twinray::plugin {
 
+// Anything a plug-in does wrong: one of the two below.
+class PluginError : public std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
 // The plug-in cannot be used: its library does not load, lacks the entry point, speaks another ABI version,
 // its build failed, or the scene holds a kind it lacks.
-class PluginUnusable : public std::runtime_error {
-    using std::runtime_error::runtime_error;
+class PluginUnusable : public PluginError {
+    using PluginError::PluginError;
 };
 
 // The scene holds a kind of primitive the plug-in does not intersect (`kind`: "plane", "csg", ...).
@@ -35,8 +40,8 @@ private:
 
 // An answer that breaks the ABI's contract (a NaN, a t outside the ray's range, an object that is not the
 // scene's, the wrong number of hits, a failed call), with the ray that shows it.
-class PluginFault : public std::runtime_error {
-    using std::runtime_error::runtime_error;
+class PluginFault : public PluginError {
+    using PluginError::PluginError;
 };
 
 class Plugin final : public JudgedTracer {
