@@ -42,7 +42,15 @@ void* operator new(std::size_t size, std::align_val_t alignment) {
     }
     throw std::bad_alloc();
 }
+// The nothrow forms too (std::stable_sort's buffer takes one), so that every delete below frees what malloc gave.
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+    ++heap_allocations;
+    return std::malloc(size == 0 ? 1 : size);
+}
 void operator delete(void* memory) noexcept {
+    std::free(memory);
+}
+void operator delete(void* memory, const std::nothrow_t&) noexcept {
     std::free(memory);
 }
 void operator delete(void* memory, std::size_t) noexcept {
