@@ -241,6 +241,22 @@ TEST_F(CliTest, DiffWritesPerSceneImagesAndAReportWithProbeCommands) {
     EXPECT_NE(result.output.find("index.html"), std::string::npos) << result.output;
 }
 
+// --tracer plugin:PATH: the plug-in's image is judged against the reference's and the page names it; a scene with a
+// kind the plug-in lacks stops the run with status 8 (README).
+TEST_F(CliTest, DiffJudgesAPluginAndItsPageNamesIt) {
+    const std::string plugin = std::string(" --tracer plugin:") + TWINRAY_EXAMPLE_TRACER;
+    CommandResult result = run_twinray("diff " + scene("spheres.json") + " --width 80 -o " + output("plugin") + plugin);
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_NE(result.output.find("PASS"), std::string::npos) << result.output;
+    EXPECT_TRUE(fs::exists(folder_ / "plugin" / "spheres" / "sse.png"));
+    std::ifstream page(folder_ / "plugin" / "index.html");
+    std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+    EXPECT_NE(html.find("reference&lt;double&gt; against plugin brute force"), std::string::npos);
+    CommandResult refused = run_twinray("diff " + scene("csg.json") + " --width 80 -o " + output("refused") + plugin);
+    EXPECT_EQ(refused.exit_status, 8) << refused.output;
+    EXPECT_NE(refused.output.find("holds a plane"), std::string::npos) << refused.output;
+}
+
 // --json: per scene the verdict, the pixels per cause (accuracy/attribution.h) and the unexplained ones.
 TEST_F(CliTest, DiffJsonGivesEachSceneItsVerdictAndItsPixelsPerCause) {
     CommandResult result = run_twinray("diff " + scene("complete2.json") + " " + scene("spheres.json") + " -o " +
@@ -349,6 +365,26 @@ TEST_F(CliTest, BenchWritesItsTablesAsCsvAndMarkdown) {
         EXPECT_NE(text.find(part), std::string::npos) << part;
     }
     EXPECT_TRUE(fs::exists(output("bench-process.csv")));
+}
+
+// --tracer plugin:PATH adds the plug-in's row on each scene it can trace, measured against the reference like
+// twinray's own; on a scene with a kind it lacks it is left out with a note, and the bench goes on.
+TEST_F(CliTest, BenchGivesAPluginItsRowWhereItCanTraceTheScene) {
+    CommandResult result = run_twinray("bench " + scene("spheres.json") + " " + scene("csg.json") +
+                                       " --runs 1 --width 16 --no-peers --tracer plugin:" + TWINRAY_EXAMPLE_TRACER +
+                                       " --markdown " + output("plugin-bench.md"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_NE(result.output.find("libbrute_force_tracer left out of csg: the scene holds a plane"), std::string::npos)
+        << result.output;
+    std::ifstream markdown(output("plugin-bench.md"));
+    std::string text((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
+    // The example intersects in double and the reference shades its hits: no pixel and no t differs.
+    const std::size_t row = text.find("| spheres | plugin libbrute_force_tracer |");
+    ASSERT_NE(row, std::string::npos) << text;
+    const std::string plugin_row = text.substr(row, text.find('\n', row) - row);
+    EXPECT_NE(plugin_row.find("| 0 | 0 | inf | 0.000 | 0 | 0 | 0 |"), std::string::npos) << plugin_row;
+    EXPECT_EQ(text.find("| csg | plugin libbrute_force_tracer |"), std::string::npos) << text;
+    EXPECT_NE(text.find("| plugin libbrute_force_tracer |"), std::string::npos) << "a summary row:\n" << text;
 }
 
 // The scaling tables alone, at the smallest size: one row per family in each, every table in its CSV file.

@@ -151,7 +151,8 @@ TEST(ProbeJson, WithoutTheSseTreeItIsNullWithTheReasonAndNothingDiverges) {
 TEST(ProbeJson, ADivergenceNamesBothNodesBothValuesAndItsAmountAgainstTheThreshold) {
     RayTree sse_tree = two_ray_tree();
     sse_tree.nodes[0].t = 4.5;
-    probe::Findings findings{{"reference<double>", two_ray_tree()}, probe::TracedTree{"sse", sse_tree}, "", {}, {}, {}};
+    probe::Findings findings{
+        {"reference<double>", two_ray_tree()}, probe::TracedTree{"sse", sse_tree, "sse", 0x1p-24}, "", {}, {}, {}};
     findings.divergences = find_divergences(findings.reference.tree, sse_tree, findings.limits);
     ASSERT_FALSE(findings.divergences.empty());
     probe::Target target = probe::parse_target(ray_arguments("0,0,5,0,0,-1"));

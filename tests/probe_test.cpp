@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -268,6 +269,36 @@ TEST(ProbeTest, TheTextTableShowsBothTracersAndTheVerdict) {
                     result.output.find("first divergence") != std::string::npos)
             << result.output;
     }
+}
+
+// --tracer plugin:PATH sets the plug-in's tree beside the reference's. The C example intersects in double and the
+// reference shades its hits, so the two trees agree to double's roundoff and no row diverges.
+TEST(ProbeTest, APluginsTreeStandsBesideTheReferencesAndAgreesWithItInDouble) {
+    const std::string plugin = std::string(" --tracer plugin:") + TWINRAY_EXAMPLE_TRACER;
+    Json json = probe_json(scene_path("spheres.json") + " --pixel 160,120" + plugin);
+    ASSERT_TRUE(json.is_object());
+    EXPECT_NE(json.at("sse").at("tracer").get<std::string>().find("plugin brute force"), std::string::npos)
+        << json.at("sse").at("tracer");
+    const Json& expected = json.at("reference").at("hit");
+    const Json& actual = json.at("sse").at("hit");
+    ASSERT_TRUE(expected.at("hit").get<bool>());
+    EXPECT_EQ(actual.at("object"), expected.at("object"));
+    const double t = expected.at("t").get<double>();
+    EXPECT_LE(std::fabs(actual.at("t").get<double>() - t), 1e-12 * t)
+        << "reference t " << t << ", plug-in t " << actual.at("t").get<double>();
+    EXPECT_TRUE(json.at("divergences").empty()) << json.at("divergences").dump(2);
+    CommandResult text = run_twinray("probe " + scene_path("spheres.json") + " --pixel 160,120" + plugin);
+    ASSERT_EQ(text.exit_status, 0) << text.everything;
+    EXPECT_NE(text.output.find("(reference #0, plugin #0)"), std::string::npos) << text.output;
+    EXPECT_NE(text.output.find("no divergence"), std::string::npos) << text.output;
+}
+
+// A kind the plug-in lacks is refused as render refuses it: status 8 and the kind named (README).
+TEST(ProbeTest, APluginThatLacksAKindOfTheSceneIsRefusedWithStatusEight) {
+    CommandResult result = run_twinray("probe " + scene_path("csg.json") +
+                                       " --pixel 16,12 --tracer plugin:" + std::string(TWINRAY_EXAMPLE_TRACER));
+    EXPECT_EQ(result.exit_status, 8) << result.everything;
+    EXPECT_NE(result.everything.find("holds a plane"), std::string::npos) << result.everything;
 }
 
 // Recording must not change what is traced: with and without a tree, the same colour bit for bit, the

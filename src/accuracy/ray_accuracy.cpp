@@ -63,6 +63,15 @@ FirstHitOf first_hits_of(const sse::Tracer& tracer, int width, int height) {
     };
 }
 
+FirstHitOf first_hits_of(const tracing::AnyTracer& tracer, int width, int height) {
+    return [&tracer, width, height](int x, int y) -> std::optional<FirstHit> {
+        const tracing::FirstHit hit = tracer.primary_hit(x, y, width, height);
+        return hit.hit ? std::optional<FirstHit>({hit.leaf, hit.t, RefVec{hit.point.x, hit.point.y, hit.point.z},
+                                                  RefVec{hit.normal.x, hit.normal.y, hit.normal.z}, hit.entering})
+                       : std::nullopt;
+    };
+}
+
 std::vector<std::optional<FirstHit>> all_first_hits(const FirstHitOf& tracer, int width, int height) {
     std::vector<std::optional<FirstHit>> hits;
     hits.reserve(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));

@@ -6,6 +6,7 @@
 #include "reference/tracer.h"
 #include "scene/scene.h"
 #include "sse/tracer.h"
+#include "tracing/any_tracer.h"
 
 #include <functional>
 #include <optional>
@@ -32,6 +33,7 @@ using FirstHitOf = std::function<std::optional<FirstHit>(int x, int y)>;
 FirstHitOf first_hits_of(const reference::Tracer<double>& tracer, int width, int height);
 FirstHitOf first_hits_of(const reference::Tracer<float>& tracer, int width, int height);
 FirstHitOf first_hits_of(const sse::Tracer& tracer, int width, int height);
+FirstHitOf first_hits_of(const tracing::AnyTracer& tracer, int width, int height);
 
 // Every pixel's first hit, row by row: computed once, compared with many tracers.
 std::vector<std::optional<FirstHit>> all_first_hits(const FirstHitOf& tracer, int width, int height);

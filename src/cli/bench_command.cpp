@@ -83,19 +83,40 @@ std::vector<Configuration> trade_configurations(int all_threads) {
     };
 }
 
+// The plug-ins' rows follow twinray's own, each labelled by its file's name.
+void add_plugin_configurations(const std::vector<std::string>& plugins, std::vector<Configuration>& configurations) {
+    for (const std::string& plugin : plugins) {
+        configurations.push_back(
+            {"plugin " + fs::path(plugin.substr(plugin.find(':') + 1)).stem().string(), plugin, {}, 1});
+    }
+}
+
 accuracy::RayAccuracy ray_accuracy(const Configuration& configuration, const scene::Scene& scene,
                                    const std::vector<std::optional<accuracy::FirstHit>>& expected, int width,
                                    int height, Accel accel) {
-    if (configuration.tracer == "reference") {
-        reference::Tracer<double> tracer(scene);
-        return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);
+    const std::unique_ptr<tracing::AnyTracer> tracer =
+        tracing::make_tracer(configuration.tracer, scene, configuration.precision, accel);
+    return accuracy::measure_rays(expected, accuracy::first_hits_of(*tracer, width, height), width, height);
+}
+
+// The configurations that can trace `scene`: a plug-in that lacks one of its kinds is left out of this scene's
+// rows, with a note; any other plug-in error ends the bench (plugin::PluginError).
+std::vector<std::size_t> runnable_on(const std::string& name, const scene::Scene& scene,
+                                     const std::vector<Configuration>& configurations) {
+    std::vector<std::size_t> runnable;
+    for (std::size_t i = 0; i < configurations.size(); ++i) {
+        if (is_plugin(configurations[i].tracer)) {
+            try {
+                tracing::make_tracer(configurations[i].tracer, scene);
+            } catch (const plugin::UnsupportedKind& refused) {
+                std::fprintf(stderr, "\ntwinray bench: %s left out of %s: %s\n", configurations[i].label.c_str(),
+                             name.c_str(), refused.what());
+                continue;
+            }
+        }
+        runnable.push_back(i);
     }
-    if (configuration.tracer == "reference-float") {
-        reference::Tracer<float> tracer(scene);
-        return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);
-    }
-    sse::Tracer tracer(scene, configuration.precision, accel);
-    return accuracy::measure_rays(expected, accuracy::first_hits_of(tracer, width, height), width, height);
+    return runnable;
 }
 
 // Across scenes, per configuration: speed-ups (for the geometric mean) and the worst errors.
@@ -107,8 +128,13 @@ struct Summary {
 
 // One scene: timings, then the accuracy of each configuration's last image and of its primary rays.
 void bench_scene(const std::string& name, const scene::Scene& scene, const BenchArguments& arguments,
-                 const std::vector<Configuration>& configurations, std::vector<Summary>& summaries,
+                 const std::vector<Configuration>& all_configurations, std::vector<Summary>& all_summaries,
                  std::vector<double>& sse_seconds, Report& report) {
+    const std::vector<std::size_t> runnable = runnable_on(name, scene, all_configurations);
+    std::vector<Configuration> configurations;
+    for (std::size_t i : runnable) {
+        configurations.push_back(all_configurations[i]);
+    }
     std::vector<Image> images;
     std::vector<Timings> timings =
         time_renders(configurations, scene, arguments.width, arguments.runs, &images, arguments.accel);
@@ -132,7 +158,7 @@ void bench_scene(const std::string& name, const scene::Scene& scene, const Bench
              cell("%.3g", rays.t_relative_p50), cell("%.3g", rays.t_relative_p999), cell("%.3g", rays.t_relative_max),
              cell("%.3g", rays.normal_angle_max_degrees), cell("%.0f", rays.per_million(rays.hit_miss_disagreements)),
              cell("%.0f", rays.per_million(rays.other_object))});
-        Summary& s = summaries[i];
+        Summary& s = all_summaries[runnable[i]];
         s.speedups.push_back(median(t.speedups));
         s.image_rms = std::max(s.image_rms, image.rms_error);
         s.image_max = std::max(s.image_max, image.max_error);
@@ -143,8 +169,9 @@ void bench_scene(const std::string& name, const scene::Scene& scene, const Bench
         s.rays += rays.rays;
         s.hit_miss += rays.hit_miss_disagreements;
     }
-    // Seconds per frame of sse exact on one thread and on all, for the POV-Ray table.
-    sse_seconds = {median(timings[2].seconds), median(timings.back().seconds)};
+    // Seconds per frame of sse exact on one thread and on all (the last of twinray's own), for the POV-Ray table.
+    const std::size_t own = all_configurations.size() - arguments.plugins.size();
+    sse_seconds = {median(timings[2].seconds), median(timings[own - 1].seconds)};
 }
 
 // A knob's price in watertightness: the misses and double hits per million of the watertightness suite's rays
@@ -171,6 +198,9 @@ void add_summary(const std::vector<Configuration>& configurations, const std::ve
                  Report& report) {
     for (std::size_t i = 0; i < configurations.size(); ++i) {
         const Summary& s = summaries[i];
+        if (s.speedups.empty()) {
+            continue;  // a plug-in that traced none of the scenes
+        }
         double log_sum = 0;
         for (double speedup : s.speedups) {
             log_sum += std::log(speedup);
@@ -359,6 +389,7 @@ int run_bench(const BenchArguments& arguments) {
     }
     int all_threads = resolve_thread_count(arguments.threads);
     std::vector<Configuration> configurations = trade_configurations(all_threads);
+    add_plugin_configurations(arguments.plugins, configurations);
     std::vector<std::pair<std::string, scene::Scene>> scenes;
     for (const std::string& path : scene_paths) {
         try {
@@ -374,7 +405,12 @@ int run_bench(const BenchArguments& arguments) {
     for (std::size_t i = 0; i < scenes.size(); ++i) {
         const auto& [name, scene] = scenes[i];
         std::vector<double> sse_seconds;
-        bench_scene(name, scene, arguments, configurations, summaries, sse_seconds, report);
+        try {
+            bench_scene(name, scene, arguments, configurations, summaries, sse_seconds, report);
+        } catch (const plugin::PluginError& error) {
+            std::cerr << "\ntwinray bench: " << error.what() << "\n";
+            return plugin_exit_status(error);
+        }
         bench_depth_control(name, scene, arguments, report);
         try {
             bench_process(name, scene_paths[i], scene, arguments, report);
@@ -457,6 +493,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
         ->capture_default_str();
     command->add_flag("!--no-peers", arguments->peers, "Leave out POV-Ray and the first-hit table (Embree)");
     add_accel_option(*command, arguments->accel);
+    add_plugin_option(*command, arguments->plugins);
     command->add_option("--csv", arguments->csv_path,
                         "Write the table as CSV to FILE, and the other tables beside it (FILE-summary.csv, ...)");
     command->add_option("--markdown", arguments->markdown_path, "Write every table as Markdown to FILE");

@@ -29,7 +29,8 @@ struct BenchArguments {
     bool peers = true;
     std::string csv_path;
     std::string markdown_path;
-    Accel accel = Accel::automatic;  // of every configuration's tracer
+    Accel accel = Accel::automatic;    // of every configuration's tracer
+    std::vector<std::string> plugins;  // --tracer plugin:PATH, each a row of the trade table beside twinray's own
 };
 
 struct Configuration {

@@ -185,6 +185,7 @@ int run_diff(const DiffArguments& arguments) {
     try {
         const compare::HeatMapScale scale = heat_map_scale(arguments);
         write_image(compare::heat_map_legend(scale, 400, 1), folder / legend_file);
+        std::string judged_label = arguments.tracer;
         for (const auto& [path, scene] : scenes) {
             SceneReport report;
             report.name = fs::path(path).stem().string();
@@ -192,6 +193,8 @@ int run_diff(const DiffArguments& arguments) {
             report.tolerances = manifest.for_scene(report.name);
             const std::unique_ptr<tracing::AnyTracer> judged =
                 tracing::make_tracer(arguments.tracer, scene, {}, arguments.accel);
+            report.judged = arguments.tracer == default_tracer ? "SSE" : judged->description();
+            judged_label = report.judged;
             TimedRender reference =
                 timed_render(*tracing::make_tracer("reference", scene, {}, arguments.accel), arguments.width);
             TimedRender sse = timed_render(*judged, arguments.width);
@@ -233,8 +236,8 @@ int run_diff(const DiffArguments& arguments) {
         if (!arguments.json_path.empty()) {
             io::write_text_atomically(arguments.json_path, report_json(reports).dump(2) + "\n");
         }
-        io::write_text_atomically(folder / "index.html",
-                                  report_page(std::move(reports), scale, arguments.with_povray, thresholds_source));
+        io::write_text_atomically(folder / "index.html", report_page(std::move(reports), scale, arguments.with_povray,
+                                                                     thresholds_source, judged_label));
     } catch (const ImageFileError& error) {
         std::cerr << "twinray diff: " << error.what() << "\n";
         return exit_output_error;

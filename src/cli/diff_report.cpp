@@ -70,15 +70,18 @@ std::string figure(const SceneReport& r, const char* image, const std::string& c
            "</figcaption></figure>\n";
 }
 
-// The reference, swapped for the SSE image while hovered, or kept swapped by a click (the page's script).
+// The reference, swapped for the judged tracer's image while hovered, or kept swapped by a click (the page's script).
 std::string flip_figure(const SceneReport& r) {
+    const std::string judged = html_escape(r.judged);
     std::ostringstream html;
-    html << "<figure class=\"flip\"><div class=\"frame\" title=\"hover: SSE; click: keep SSE\">";
+    html << "<figure class=\"flip\"><div class=\"frame\" title=\"hover: " << judged << "; click: keep " << judged
+         << "\">";
     for (const char* image : {"reference", "sse"}) {
         html << "<img class=\"" << image << "\" src=\"" << image_path(r, image) << "\" alt=\"" << image << "\" width=\""
              << r.width << "\" height=\"" << r.height << "\">";
     }
-    html << "</div><figcaption><b class=\"showing-reference\">reference</b><b class=\"showing-sse\">SSE</b>"
+    html << "</div><figcaption><b class=\"showing-reference\">reference</b><b class=\"showing-sse\">" << judged
+         << "</b>"
          << " &mdash; hover or click to flip</figcaption></figure>\n";
     return html.str();
 }
@@ -132,8 +135,9 @@ std::string metrics_table(const SceneReport& r) {
          << "<tr><th>mean, RMS</th><td>" << format("%.3g", r.metrics.mean_error) << ", "
          << format("%.3g", r.metrics.rms_error) << "</td></tr>"
          << "<tr><th>PSNR</th><td>" << format("%.1f dB", r.metrics.psnr) << "</td></tr>"
-         << "<tr><th>render</th><td>reference " << format("%.3f s", r.reference_seconds) << ", SSE "
-         << format("%.3f s", r.sse_seconds) << ": " << format("%.1f&times;", r.reference_seconds / r.sse_seconds)
+         << "<tr><th>render</th><td>reference " << format("%.3f s", r.reference_seconds) << ", "
+         << html_escape(r.judged) << " " << format("%.3f s", r.sse_seconds) << ": "
+         << format("%.1f&times;", r.reference_seconds / r.sse_seconds)
          << " <small>(tracing only: loading the scene and compiling it excluded)</small></td></tr>"
          << "<tr><th>causes</th><td>of the pixels over " << format("%.4g", t.warn) << ": ";
     for (int c = 0; c < accuracy::cause_count; ++c) {
@@ -346,14 +350,14 @@ std::string percent(long count, long total) {
 }
 
 std::string report_page(std::vector<SceneReport> reports, const compare::HeatMapScale& scale, bool with_povray,
-                        const std::string& thresholds_source) {
+                        const std::string& thresholds_source, const std::string& judged) {
     std::stable_sort(reports.begin(), reports.end(), [](const SceneReport& a, const SceneReport& b) {
         return a.verdict != b.verdict ? a.verdict > b.verdict : a.name < b.name;
     });
     std::ostringstream html;
     html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
          << "<meta name=\"viewport\" content=\"width=device-width\"><title>twinray diff</title>\n"
-         << style << "</head><body>\n<h1>twinray diff: reference&lt;double&gt; against SSE"
+         << style << "</head><body>\n<h1>twinray diff: reference&lt;double&gt; against " << html_escape(judged)
          << (with_povray ? " (and POV-Ray)" : "") << "</h1>\n"
          << summary(reports) << filter_controls(reports.size()) << legend(scale)
          << "<p class=\"label\">Images are compared as stored (clamped to [0, 1]); thresholds per scene: "

@@ -24,6 +24,7 @@ struct PovrayColumn {
 struct SceneReport {
     std::string name;        // the scene file's stem, also the folder of its images
     std::string scene_path;  // as given on the command line, for the commands the page prints
+    std::string judged;      // the tracer judged against the reference, for people: "SSE" or the plug-in's description
     compare::SceneTolerances tolerances;
     compare::Metrics metrics;
     compare::Verdict verdict = compare::Verdict::pass;
@@ -47,7 +48,8 @@ std::string probe_command(const SceneReport& report, const compare::PixelError& 
 
 // Scenes are shown FAIL first, then WARN, then PASS, each by name.
 // `thresholds_source` names where the scenes' thresholds came from (the manifest, or the built-in defaults).
+// `judged` names the tracer the reference is held against, as SceneReport::judged does.
 std::string report_page(std::vector<SceneReport> reports, const compare::HeatMapScale& scale, bool with_povray,
-                        const std::string& thresholds_source);
+                        const std::string& thresholds_source, const std::string& judged);
 
 }  // namespace twinray::cli

@@ -20,6 +20,7 @@ struct Arguments {
     int height = 0;
     bool json = false;
     Accel accel = Accel::automatic;
+    std::string tracer = "sse";  // the tracer whose tree is set beside the reference's: a name or plugin:PATH
 };
 
 // A command line that cannot be probed: exit status 1 (usage), its message on stderr.

@@ -1,4 +1,4 @@
-// `twinray probe`, stage by stage: the arguments (probe_arguments), both tracers' trees
+// `twinray probe`, stage by stage: the arguments (probe_arguments), the reference's and the judged tracer's trees
 // (probe_tracing), then the table (probe_text) or the JSON (probe_json).
 #include "cli/probe_command.h"
 
@@ -39,7 +39,13 @@ int run_probe(const probe::Arguments& arguments) {
             return exit_usage;
         }
     }
-    probe::Findings findings = probe::trace_target(scene, target, arguments.accel);
+    probe::Findings findings;
+    try {
+        findings = probe::trace_target(scene, target, arguments.accel, arguments.tracer);
+    } catch (const plugin::PluginError& error) {
+        std::cerr << "twinray probe: " << error.what() << "\n";
+        return plugin_exit_status(error);
+    }
     if (arguments.json) {
         std::cout << probe::report_json(scene, arguments.scene_path, target, findings).dump(2) << "\n";
     } else {
@@ -54,10 +60,11 @@ void add_probe_command(CLI::App& app, std::function<int()>& run) {
     auto arguments = std::make_shared<probe::Arguments>();
     CLI::App* command = app.add_subcommand(
         "probe",
-        "Trace one pixel (or ray) with both tracers and print the two ray trees side by side, marking "
-        "where they first diverge");
+        "Trace one pixel (or ray) with the reference and the SSE tracer (or --tracer's) and print the two ray trees "
+        "side by side, marking where they first diverge");
     probe::add_options(*command, *arguments);
     add_accel_option(*command, arguments->accel);
+    add_tracer_option(*command, arguments->tracer);
     command->callback([arguments, &run] { run = [arguments] { return run_probe(*arguments); }; });
 }
 

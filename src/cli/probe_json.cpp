@@ -168,19 +168,20 @@ Json report_json(const scene::Scene& scene, const std::string& scene_path, const
                           {"local colour", limits.color},
                           {"total colour", limits.color}};
     json["reference"] = tracer_json(scene, findings.reference);
-    json["sse"] = findings.sse ? tracer_json(scene, *findings.sse) : Json();
-    if (!findings.sse) {
-        json["sse_unavailable"] = findings.sse_note;
+    // The judged tracer keeps the key "sse" whichever it is (--tracer); its "tracer" says which.
+    json["sse"] = findings.judged ? tracer_json(scene, *findings.judged) : Json();
+    if (!findings.judged) {
+        json["sse_unavailable"] = findings.judged_note;
     }
     Json all = Json::array();
-    if (findings.sse) {
+    if (findings.judged) {
         for (const Divergence& d : findings.divergences) {
-            all.push_back(divergence_json(scene, d, findings.reference.tree, findings.sse->tree));
+            all.push_back(divergence_json(scene, d, findings.reference.tree, findings.judged->tree));
         }
     }
     json["divergence"] = findings.divergences.empty() ? Json() : all.front();
     json["divergences"] = all;
-    if (findings.sse) {
+    if (findings.judged) {
         json["cause"] = {{"class", accuracy::cause_name(findings.cause.cause)},
                          {"what", findings.cause.what},
                          {"depth", findings.cause.depth},

@@ -155,17 +155,17 @@ void print_heading(const std::string& scene_path, const Target& target, const Fi
         "  %g rad; shadow transmittance %g; colour %.4f (1/255) in a channel; any change of hit or miss, object,\n"
         "  entering, a light facing away or blocked, or a ray traced by one tracer only (docs/probe.md)\n",
         limits.position, limits.angle, limits.transmittance, limits.color);
-    if (!findings.sse) {
-        std::printf("note: %s; showing the reference's tree only\n", findings.sse_note.c_str());
+    if (!findings.judged) {
+        std::printf("note: %s; showing the reference's tree only\n", findings.judged_note.c_str());
     }
 }
 
 // Every ray of both trees, aligned, one row per field; the divergences marked on their rows.
 void print_trees(const scene::Scene& scene, const Findings& findings) {
     const TracedTree& reference = findings.reference;
-    const TracedTree* sse = findings.sse ? &*findings.sse : nullptr;
+    const TracedTree* judged = findings.judged ? &*findings.judged : nullptr;
     const std::vector<Divergence>& divergences = findings.divergences;
-    // Divergences by (reference node, sse node, row), the first one apart.
+    // Divergences by (reference node, judged node, row), the first one apart.
     std::map<std::pair<std::pair<int, int>, std::string>, std::size_t> marks;
     for (std::size_t k = 0; k < divergences.size(); ++k) {
         marks.emplace(
@@ -175,15 +175,15 @@ void print_trees(const scene::Scene& scene, const Findings& findings) {
     constexpr std::size_t label_width = 14;
     constexpr std::size_t column_width = 46;
     std::printf("\n%s%s%s\n", pad("", label_width).c_str(), pad(reference.label, column_width).c_str(),
-                sse != nullptr ? sse->label.c_str() : "");
+                judged != nullptr ? judged->label.c_str() : "");
     std::size_t light_count = scene.lights.size();
-    for (const AlignedRay& ray : align(reference.tree, sse != nullptr ? &sse->tree : nullptr)) {
+    for (const AlignedRay& ray : align(reference.tree, judged != nullptr ? &judged->tree : nullptr)) {
         const RayNode* p = node_at(&reference.tree, ray.first);
-        const RayNode* q = node_at(sse != nullptr ? &sse->tree : nullptr, ray.second);
+        const RayNode* q = node_at(judged != nullptr ? &judged->tree : nullptr, ray.second);
         const RayNode& any = p != nullptr ? *p : *q;
         std::string indices = "reference #" + (p != nullptr ? std::to_string(ray.first) : std::string("-"));
-        if (sse != nullptr) {
-            indices += ", sse #" + (q != nullptr ? std::to_string(ray.second) : std::string("-"));
+        if (judged != nullptr) {
+            indices += ", " + judged->name + " #" + (q != nullptr ? std::to_string(ray.second) : std::string("-"));
         }
         std::string title = std::string(static_cast<std::size_t>(2 * (any.depth - 1)), ' ') + "-- depth " +
                             std::to_string(any.depth) + ": " + ray_kind_name(any.kind) + " ray (" + indices + ")";
@@ -196,7 +196,7 @@ void print_trees(const scene::Scene& scene, const Findings& findings) {
         };
         std::printf("\n%s%s\n", title.c_str(), mark("ray").c_str());
         if (p == nullptr || q == nullptr) {
-            if (sse != nullptr) {
+            if (judged != nullptr) {
                 std::printf("%s%s%s\n", pad("", label_width).c_str(),
                             pad(p != nullptr ? "" : "(not traced)", column_width).c_str(),
                             q != nullptr ? "" : "(not traced)");
@@ -208,7 +208,7 @@ void print_trees(const scene::Scene& scene, const Findings& findings) {
             if (left.empty() && right.empty()) {
                 continue;
             }
-            std::string line = pad(row, label_width) + (sse != nullptr ? pad(left, column_width) + right : left);
+            std::string line = pad(row, label_width) + (judged != nullptr ? pad(left, column_width) + right : left);
             std::printf("%s%s\n", line.c_str(), mark(row).c_str());
         }
     }
@@ -224,15 +224,16 @@ void print_verdict(const scene::Scene& scene, const Findings& findings) {
     }
     const Divergence& first = divergences.front();
     const RayNode* p = node_at(&findings.reference.tree, first.first);
-    const RayNode* q = node_at(&findings.sse->tree, first.second);
+    const std::string& name = findings.judged->name;
+    const RayNode* q = node_at(&findings.judged->tree, first.second);
     const RayNode& any = p != nullptr ? *p : *q;
-    std::printf("first divergence: depth %d, %s ray (reference #%d, sse #%d): %s\n", any.depth, ray_kind_name(any.kind),
-                first.first, first.second, first.what.c_str());
+    std::printf("first divergence: depth %d, %s ray (reference #%d, %s #%d): %s\n", any.depth, ray_kind_name(any.kind),
+                first.first, name.c_str(), first.second, first.what.c_str());
     if (first.what == "ray") {
-        std::printf("  traced by %s only\n", p != nullptr ? "the reference" : "sse");
+        std::printf("  traced by %s only\n", p != nullptr ? "the reference" : name.c_str());
     } else {
         std::string row = row_of(first.what);
-        std::printf("  reference: %s\n  sse:       %s\n", row_text(scene, *p, row).c_str(),
+        std::printf("  reference: %s\n  %s %s\n", row_text(scene, *p, row).c_str(), pad(name + ":", 10).c_str(),
                     row_text(scene, *q, row).c_str());
         if (std::string amount = amount_text(first); !amount.empty()) {
             std::printf("  by %s\n", amount.c_str());
@@ -273,15 +274,16 @@ void print_dropped(const TracedTree& traced) {
     }
 }
 
-// Why the trees differ (accuracy/attribution.h), the ray's deviation and its band also in float ulps (u = 2⁻²⁴).
-void print_cause(const accuracy::PixelCause& cause) {
+// Why the trees differ (accuracy/attribution.h), the ray's deviation and its band also in units u of the judged
+// tracer's roundoff (2⁻²⁴ for float).
+void print_cause(const accuracy::PixelCause& cause, double unit_roundoff) {
     std::printf("why: %s", accuracy::cause_name(cause.cause));
     if (!cause.what.empty()) {
         std::printf(" (%s", cause.what.c_str());
         if (cause.depth > 0) {
-            constexpr double ulp = 0x1p-24;
             std::printf(" at depth %d: the ray is %.2g rad = %.0f u off the reference's, band %.2g rad = %.0f u",
-                        cause.depth, cause.deviation, cause.deviation / ulp, cause.band, cause.band / ulp);
+                        cause.depth, cause.deviation, cause.deviation / unit_roundoff, cause.band,
+                        cause.band / unit_roundoff);
         }
         std::printf(")");
     }
@@ -295,12 +297,10 @@ void print_text(const scene::Scene& scene, const std::string& scene_path, const 
     print_heading(scene_path, target, findings);
     print_trees(scene, findings);
     print_dropped(findings.reference);
-    if (findings.sse) {
-        print_dropped(*findings.sse);
-    }
-    if (findings.sse) {
+    if (findings.judged) {
+        print_dropped(*findings.judged);
         print_verdict(scene, findings);
-        print_cause(findings.cause);
+        print_cause(findings.cause, findings.judged->unit_roundoff);
     }
 }
 

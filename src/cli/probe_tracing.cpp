@@ -2,8 +2,7 @@
 
 #include "reference/tracer.h"
 #include "scene/geometry.h"
-#include "sse/cpu.h"
-#include "sse/tracer.h"
+#include "tracing/any_tracer.h"
 
 #include <cstddef>
 
@@ -15,35 +14,36 @@ TracedTree trace_reference(const reference::Tracer<double>& tracer, const Target
     R ray = target.is_pixel ? tracer.primary_ray(target.x, target.y, target.width, target.height)
                             : R{{target.origin[0], target.origin[1], target.origin[2]},
                                 {target.direction[0], target.direction[1], target.direction[2]}};
-    TracedTree traced{"reference<double>", {}};
+    TracedTree traced{"reference<double>", {}, "reference", 0x1p-53};
     tracer.trace(ray, 1, nullptr, &traced.tree);
     return traced;
 }
 
-// The ray given by hand reaches the sse tracer with its origin in double (the tracer re-bases it on its own
+// The ray given by hand reaches a float tracer with its origin in double (the SSE tracer re-bases it on its own
 // origin before rounding to float) and its direction, normalised in double, rounded to float.
-TracedTree trace_sse(const scene::Scene& scene, const Target& target, Accel accel) {
-    sse::Tracer tracer(scene, {}, accel);
-    sse::Ray ray = target.is_pixel ? tracer.primary_ray(target.x, target.y, target.width, target.height)
-                                   : sse::Ray{target.origin, sse::Vec3(target.direction)};
-    TracedTree traced{"sse (float, SSE4.1)", {}};
-    tracer.trace(ray, 1, nullptr, &traced.tree);
+TracedTree trace_judged(const tracing::AnyTracer& tracer, const std::string& name, const Target& target) {
+    TracedTree traced{tracer.description(), {}, tracing::is_plugin(name) ? "plugin" : name, tracer.unit_roundoff()};
+    if (target.is_pixel) {
+        tracer.trace_primary(target.x, target.y, target.width, target.height, traced.tree);
+    } else {
+        tracer.trace_ray(target.origin, target.direction, traced.tree);
+    }
     return traced;
 }
 
 }  // namespace
 
-Findings trace_target(const scene::Scene& scene, const Target& target, Accel accel) {
-    // One reference tracer traces the tree and, for the attribution, replays the SSE tracer's rays.
+Findings trace_target(const scene::Scene& scene, const Target& target, Accel accel, const std::string& tracer) {
+    // One reference tracer traces the tree and, for the attribution, replays the judged tracer's rays.
     reference::Tracer<double> reference(scene, accel);
     Findings findings{trace_reference(reference, target), std::nullopt, "", {}, {}, {}};
-    if (sse::cpu_supports_sse41()) {
-        findings.sse = trace_sse(scene, target, accel);
-        findings.divergences = find_divergences(findings.reference.tree, findings.sse->tree, findings.limits);
-        findings.cause = accuracy::attribute(scene, reference, findings.reference.tree, findings.sse->tree);
-    } else {
-        findings.sse_note = "sse not run: " + sse::missing_sse41_message();
+    if (std::string reason = tracing::tracer_unavailable_reason(tracer); !reason.empty()) {
+        findings.judged_note = tracer + " not run: " + reason;
+        return findings;
     }
+    findings.judged = trace_judged(*tracing::make_tracer(tracer, scene, {}, accel), tracer, target);
+    findings.divergences = find_divergences(findings.reference.tree, findings.judged->tree, findings.limits);
+    findings.cause = accuracy::attribute(scene, reference, findings.reference.tree, findings.judged->tree);
     return findings;
 }
 

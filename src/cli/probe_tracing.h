@@ -17,19 +17,25 @@ namespace twinray::cli::probe {
 struct TracedTree {
     std::string label;  // the tracer, for people
     RayTree tree;
+    std::string name = "reference";  // short, for node indices: "reference", "sse", "plugin"
+    double unit_roundoff = 0x1p-53;  // of the arithmetic the tree's hits were found in
 };
 
-// Both trees and their divergences. Without SSE4.1 only the reference traces; sse_note says why.
+// The reference's tree beside the judged tracer's, and their divergences. Where the judged tracer cannot run
+// here (the SSE tracer without SSE4.1) only the reference traces; judged_note says why.
 struct Findings {
     TracedTree reference;
-    std::optional<TracedTree> sse;
-    std::string sse_note;
+    std::optional<TracedTree> judged;
+    std::string judged_note;
     DivergenceThresholds limits;
-    std::vector<Divergence> divergences;  // in tracing order; empty without sse
-    accuracy::PixelCause cause;           // why the trees differ (accuracy/attribution.h); only with sse
+    std::vector<Divergence> divergences;  // in tracing order; empty without a judged tree
+    accuracy::PixelCause cause;           // why the trees differ (accuracy/attribution.h); only with a judged tree
 };
 
-Findings trace_target(const scene::Scene& scene, const Target& target, Accel accel = Accel::automatic);
+// `tracer` names the judged tracer as --tracer does (tracing::make_tracer); a plug-in's errors are thrown as
+// plugin::PluginError.
+Findings trace_target(const scene::Scene& scene, const Target& target, Accel accel = Accel::automatic,
+                      const std::string& tracer = "sse");
 
 // Naming what a tree holds, for the text and the JSON alike.
 std::string object_name(const scene::Scene& scene, int leaf);

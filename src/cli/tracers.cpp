@@ -22,6 +22,21 @@ int plugin_exit_status(const plugin::PluginError& error) {
     return dynamic_cast<const plugin::PluginFault*>(&error) != nullptr ? exit_plugin_fault : exit_plugin_unusable;
 }
 
+void add_plugin_option(CLI::App& command, std::vector<std::string>& plugins) {
+    command
+        .add_option("--tracer", plugins,
+                    "plugin:PATH, repeatable: a tracer behind include/twinray/tracer.h, its hits shaded by the "
+                    "reference in double, timed and measured beside twinray's own (docs/plugins.md)")
+        ->check(CLI::Validator(
+            [](const std::string& name) -> std::string {
+                return is_plugin(name) && name.size() > std::string_view("plugin:").size()
+                           ? ""
+                           : "--tracer here names a plug-in, plugin:PATH (twinray's own tracers all run); got \"" +
+                                 name + "\"";
+            },
+            "plugin:PATH", "plugin"));
+}
+
 void add_tracer_option(CLI::App& command, std::string& tracer) {
     std::string help = "Tracer:";
     for (const std::string& name : tracer_names()) {

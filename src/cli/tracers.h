@@ -29,6 +29,8 @@ int plugin_exit_status(const plugin::PluginError& error);
 
 // --tracer NAME or plugin:PATH.
 void add_tracer_option(CLI::App& command, std::string& tracer);
+// --tracer plugin:PATH, repeatable: the plug-ins a command runs beside twinray's own tracers (bench).
+void add_plugin_option(CLI::App& command, std::vector<std::string>& plugins);
 
 // --fast-rcp, --fast-rsqrt, --dpps, --textbook-quadratic, --ftz and the preset --precision exact|fast.
 void add_precision_options(CLI::App& command, sse::Precision& precision);

@@ -27,7 +27,8 @@ FirstHit first_hit(const std::optional<H>& hit) {
     if (!hit) {
         return {};
     }
-    return {true, hit->leaf, static_cast<double>(hit->t), widened(hit->point), widened(hit->normal), hit->triangle};
+    return {true,          hit->leaf,    static_cast<double>(hit->t), widened(hit->point), widened(hit->normal),
+            hit->triangle, hit->entering};
 }
 
 // A tracer of twinray's own: `Ray` its ray type, built from double vectors (rounded where its members are float).

@@ -25,6 +25,7 @@ struct FirstHit {
     Vec3d point{};
     Vec3d normal{};  // unit, facing the ray
     int triangle = -1;
+    bool entering = false;  // the ray enters the object's inside there
 };
 
 class AnyTracer {
