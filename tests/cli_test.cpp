@@ -9,7 +9,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -405,6 +408,33 @@ TEST_F(CliTest, BenchScalingOnlyWritesItsTables) {
     std::ifstream markdown(output("bench.md"));
     std::string text((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
     EXPECT_NE(text.find("| lattice | 9 |"), std::string::npos) << text;
+}
+
+// The memory floor beside the scaling: a load that misses to DRAM waits far longer than an L1 hit, and many in
+// flight at once cost each far less than one alone (what a floor of overlapped misses rests on).
+TEST_F(CliTest, BenchScalingMeasuresTheMemoryFloor) {
+    CommandResult result = run_twinray("bench --scaling-only --scaling-max 10 --runs 1 --width 16 --no-peers --csv " +
+                                       output("floor.csv"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    std::ifstream csv(output("floor-scaling-floor.csv"));
+    std::map<std::string, std::pair<double, double>> loads;  // first column: dependent, 32 in flight, ns per load
+    std::string line;
+    std::getline(csv, line);
+    while (std::getline(csv, line)) {
+        std::vector<std::string> fields;
+        std::stringstream row(line);
+        for (std::string field; std::getline(row, field, ',');) {
+            fields.push_back(field);
+        }
+        if (fields.size() == 4 && !fields[2].empty()) {
+            loads[fields[0].substr(0, 2)] = {std::stod(fields[2]), std::stod(fields[3])};
+        }
+    }
+    ASSERT_TRUE(loads.count("L1") && loads.count("DR")) << "rows: " << loads.size() << "\n" << result.output;
+    const auto [l1, l1_overlapped] = loads["L1"];
+    const auto [dram, dram_overlapped] = loads["DR"];
+    EXPECT_GT(dram, 10 * l1) << "ns per load: DRAM " << dram << ", L1 " << l1;
+    EXPECT_LT(dram_overlapped, dram / 4) << "ns per load in flight together " << dram_overlapped << ", alone " << dram;
 }
 
 TEST_F(CliTest, BenchRefusesABadScalingRequest) {

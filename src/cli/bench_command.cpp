@@ -266,7 +266,7 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
                                 "sse exact",
                                 "sse fast",
                                 "embree rtcIntersect1",
-                                "embree rtcIntersect4",
+                                "embree rtcIntersect4 coherent",
                                 "sse/embree1",
                                 "sse/embree4",
                                 "hits sse - embree",
@@ -299,7 +299,8 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
     report.scaling_peers.title =
         "Scaling against peers: first hits of primary rays (ns/ray, sse --accel " + accel_name(arguments.accel) +
         "; Embree on the widest kernels this CPU runs and on its SSE4.2 ones, on meshes also with "
-        "RTC_SCENE_FLAG_ROBUST) and whole renders (s, sse bvh) "
+        "RTC_SCENE_FLAG_ROBUST, and its coherent rtcIntersect4/8/16 on the widest, the fastest shown) and whole "
+        "renders (s, sse bvh) "
         "against POV-Ray 3.7 +WT1 without its start-up "
         "(its trace, as its statistics give it); CPU time of one thread, " +
         scaling_setting;
@@ -315,6 +316,9 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
                                     "embree robust/sse",
                                     "embree robust sse4.2 ns/ray",
                                     "embree robust sse4.2/sse",
+                                    "embree coherent packets ns/ray",
+                                    "embree packet lanes",
+                                    "embree packets/sse",
                                     "image",
                                     "povray +WT1 s (process)",
                                     "povray parse + bounding s",
@@ -334,6 +338,11 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
     report.scaling_threads.headers = {
         "family",   "primitives",          "image", "1 thread s", std::to_string(all_threads) + " threads s",
         "speed-up", "images bit-identical"};
+    report.scaling_floor.title =
+        "Scaling: the memory floor of this machine (ns per load of a 64-byte line from a random cycle on 2 MB pages, "
+        "one chase at a time and 32 interleaved; median of " +
+        std::to_string(arguments.runs) + " runs)";
+    report.scaling_floor.headers = {"load", "buffer", "dependent ns/load", "32 in flight ns/load"};
     return report;
 }
 
@@ -353,7 +362,8 @@ std::vector<Output> outputs_of(const Report& report) {
             {&report.scaling, "scaling"},
             {&report.scaling_peers, "scaling-peers"},
             {&report.scaling_build, "scaling-build"},
-            {&report.scaling_threads, "scaling-threads"}};
+            {&report.scaling_threads, "scaling-threads"},
+            {&report.scaling_floor, "scaling-floor"}};
 }
 
 // The tables with rows, as Markdown in one file and as CSV: FILE, FILE-summary.csv, FILE-povray.csv, ...
@@ -436,6 +446,8 @@ int run_bench(const BenchArguments& arguments) {
     }
     if (arguments.scaling || arguments.scaling_only) {
         bench_scaling(arguments, all_threads, povray, report);
+        std::fputs("scaling: the memory floor\n", stderr);
+        bench_memory_floor(arguments.runs, report);
     }
     std::vector<Output> outputs;
     for (const Output& output : outputs_of(report)) {

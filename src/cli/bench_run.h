@@ -44,6 +44,7 @@ struct Report {
     BenchTable trade, summary, process, povray, first_hit, depth;
     // --scaling: time per ray, first hits against Embree and renders against POV-Ray, the BVH's build, threads.
     BenchTable scaling, scaling_peers, scaling_build, scaling_threads;
+    BenchTable scaling_floor;  // the caches' and DRAM's time per line, what a time per ray is set against
 };
 
 // Every knob that can buy speed (--precision fast); dpps is the thesis's choice, timed on its own.
@@ -97,6 +98,8 @@ void bench_first_hits(const std::string& name, const scene::Scene& scene, int wi
 // `povray` is given), the BVH's build, and one thread against all (bench_scaling.cpp).
 void bench_scaling(const BenchArguments& arguments, int all_threads, const std::optional<std::filesystem::path>& povray,
                    Report& report);
+// The time of a load hitting each cache level and missing to DRAM, one at a time and overlapped (bench_floor.cpp).
+void bench_memory_floor(int runs, Report& report);
 
 // With mirrors or glass: rays, seconds and image change of the proven cutoff against none (min_weight 0), both
 // tracers on one thread.

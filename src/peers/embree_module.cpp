@@ -13,6 +13,7 @@
 #include <deque>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <variant>
 #include <vector>
 
@@ -390,18 +391,22 @@ FirstHitRun cast_single(const void* state) {
     return run;
 }
 
-FirstHitRun cast_packets(const void* state) {
-    const State& s = *static_cast<const State*>(state);
+// Packets of `Lanes` rays over tiles of Width x Lanes/Width pixels, with the coherent flag: Embree's
+// own path for rays that share an origin, its frustum per packet (issue 27's peer).
+template <int Lanes, int Width, typename RayHitN, typename Intersect>
+FirstHitRun cast_tiles(const State& s, Intersect intersect) {
+    constexpr int height = Lanes / Width;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     FirstHitRun run;
     const double start = cpu_seconds();
-    for (int y = 0; y < s.height; y += 2) {
-        for (int x = 0; x < s.width; x += 2) {
-            alignas(16) RTCRayHit4 packet{};
-            alignas(16) int valid[4];
-            for (int lane = 0; lane < 4; ++lane) {
-                int px = x + (lane & 1), py = y + (lane >> 1);
+    for (int y = 0; y < s.height; y += height) {
+        for (int x = 0; x < s.width; x += Width) {
+            alignas(64) RayHitN packet{};
+            alignas(64) int valid[Lanes];
+            for (int lane = 0; lane < Lanes; ++lane) {
+                int px = x + lane % Width, py = y + lane / Width;
                 valid[lane] = px < s.width && py < s.height ? -1 : 0;
                 const FloatRay& ray =
                     s.rays[static_cast<std::size_t>(valid[lane] != 0 ? py * s.width + px : y * s.width + x)];
@@ -416,8 +421,8 @@ FirstHitRun cast_packets(const void* state) {
                 packet.ray.mask[lane] = ~0u;
                 packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
             }
-            rtcIntersect4(valid, s.scene, &context, &packet);
-            for (int lane = 0; lane < 4; ++lane) {
+            intersect(valid, s.scene, &context, &packet);
+            for (int lane = 0; lane < Lanes; ++lane) {
                 run.hits += valid[lane] != 0 && packet.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
             }
         }
@@ -425,6 +430,16 @@ FirstHitRun cast_packets(const void* state) {
     run.seconds = cpu_seconds() - start;
     run.rays = s.rays.size();
     return run;
+}
+
+FirstHitRun cast_packets(const void* state, int lanes) {
+    const State& s = *static_cast<const State*>(state);
+    switch (lanes) {
+        case 4: return cast_tiles<4, 2, RTCRayHit4>(s, rtcIntersect4);
+        case 8: return cast_tiles<8, 4, RTCRayHit8>(s, rtcIntersect8);
+        case 16: return cast_tiles<16, 4, RTCRayHit16>(s, rtcIntersect16);
+        default: throw std::invalid_argument("Embree packets hold 4, 8 or 16 rays, not " + std::to_string(lanes));
+    }
 }
 
 double build_seconds(const void* state) {

@@ -19,7 +19,7 @@ struct EmbreeFunctions {
                     EmbreeMode mode);
     void (*destroy)(void* state);
     FirstHitRun (*cast_single)(const void* state);
-    FirstHitRun (*cast_packets)(const void* state);
+    FirstHitRun (*cast_packets)(const void* state, int lanes);
     double (*build_seconds)(const void* state);
 };
 

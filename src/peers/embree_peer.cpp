@@ -56,8 +56,8 @@ FirstHitRun EmbreePeer::cast_single() const {
     return state_->module.cast_single(state_->embree);
 }
 
-FirstHitRun EmbreePeer::cast_packets() const {
-    return state_->module.cast_packets(state_->embree);
+FirstHitRun EmbreePeer::cast_packets(int lanes) const {
+    return state_->module.cast_packets(state_->embree, lanes);
 }
 
 double EmbreePeer::build_seconds() const {

@@ -2,8 +2,8 @@
 // primitives in Embree's fastest form: spheres as its native point spheres, boxes as six native quads,
 // planes as one large quad, cylinders (Embree has no capped cylinder) as user geometry whose callback
 // runs the reference tracer's formula in float, each mesh as its native triangles; and the same primary
-// rays as the SSE tracer (its camera, in float) cast one by one (rtcIntersect1) or as 2 × 2 packets
-// (rtcIntersect4).
+// rays as the SSE tracer (its camera, in float) cast one by one (rtcIntersect1) or as coherent packets
+// of 4, 8 or 16 (rtcIntersect4/8/16).
 #pragma once
 
 #include "scene/scene.h"
@@ -43,8 +43,9 @@ public:
     EmbreePeer(const EmbreePeer&) = delete;
     EmbreePeer& operator=(const EmbreePeer&) = delete;
 
-    FirstHitRun cast_single() const;   // rtcIntersect1 per ray
-    FirstHitRun cast_packets() const;  // rtcIntersect4 per 2 × 2 pixels
+    FirstHitRun cast_single() const;  // rtcIntersect1 per ray
+    // rtcIntersect4, 8 or 16 per tile of 2 × 2, 4 × 2 or 4 × 4 pixels, flagged coherent.
+    FirstHitRun cast_packets(int lanes = 4) const;
     // CPU time of building Embree's scene (its geometries and BVH) on one thread, as the constructor did.
     double build_seconds() const;
 

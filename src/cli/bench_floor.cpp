@@ -1,0 +1,168 @@
+// `twinray bench --scaling`'s memory floor (docs/performance.md, "The floor of this machine"): the caches the
+// kernel reports and the time of a load that misses each of them, one at a time (a walk's chain of dependent
+// node fetches) and with many in flight (rays whose walks overlap), so that a time per ray can be set against
+// what its cache lines cost at best.
+#include "cli/bench_run.h"
+
+#include <sys/mman.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace twinray::cli::bench {
+namespace {
+
+constexpr std::size_t line_bytes = 64;
+constexpr std::size_t huge_page_bytes = std::size_t{2} << 20;
+
+// One cache line: the index of the next line of the chase, and padding so that each load is a line of its own.
+struct alignas(line_bytes) Line {
+    std::uint64_t next;
+    std::uint64_t padding[7];
+};
+
+struct Cache {
+    int level = 0;
+    std::size_t bytes = 0;
+};
+
+// The data and unified caches of CPU 0, as /sys/devices/system/cpu/cpu0/cache gives them (what lscpu reads;
+// glibc's sysconf reports 384 MB of L3 on this VM, lscpu 32 MiB).
+std::vector<Cache> data_caches() {
+    std::vector<Cache> caches;
+    for (int index = 0;; ++index) {
+        const std::string folder = "/sys/devices/system/cpu/cpu0/cache/index" + std::to_string(index) + "/";
+        std::ifstream level_file(folder + "level"), type_file(folder + "type"), size_file(folder + "size");
+        if (!level_file || !type_file || !size_file) {
+            break;
+        }
+        Cache cache;
+        std::string type, size;
+        level_file >> cache.level;
+        type_file >> type;
+        size_file >> size;
+        if (type == "Instruction" || size.empty()) {
+            continue;
+        }
+        const char unit = size.back();
+        cache.bytes = std::stoull(size) * (unit == 'K' ? 1024u : unit == 'M' ? 1024u * 1024u : 1u);
+        caches.push_back(cache);
+    }
+    return caches;
+}
+
+// Lines in one random cycle (Sattolo's shuffle, a seeded portable generator reduced by our own modulo), on
+// 2 MB pages where the kernel grants them, so that a miss pays DRAM and not a page walk as well.
+class Chase {
+public:
+    explicit Chase(std::size_t bytes) : count_(bytes / line_bytes) {
+        const std::size_t rounded = (count_ * line_bytes + huge_page_bytes - 1) / huge_page_bytes * huge_page_bytes;
+        lines_ = static_cast<Line*>(std::aligned_alloc(huge_page_bytes, rounded));
+        if (lines_ == nullptr) {
+            throw std::runtime_error("bench: cannot allocate " + std::to_string(rounded) +
+                                     " bytes for the memory floor");
+        }
+        madvise(lines_, rounded, MADV_HUGEPAGE);
+        std::vector<std::uint64_t> order(count_);
+        for (std::size_t i = 0; i < count_; ++i) {
+            order[i] = i;
+        }
+        std::mt19937_64 random(2026);
+        for (std::size_t i = count_ - 1; i > 0; --i) {
+            std::swap(order[i], order[random() % i]);
+        }
+        for (std::size_t i = 0; i < count_; ++i) {
+            lines_[order[i]].next = order[(i + 1) % count_];
+        }
+    }
+    ~Chase() { std::free(lines_); }
+    Chase(const Chase&) = delete;
+    Chase& operator=(const Chase&) = delete;
+
+    // Nanoseconds per load over `loads` loads in Chains independent chains, interleaved: a chain's loads wait for
+    // each other, the chains' do not.
+    template <int Chains>
+    double ns_per_load(std::size_t loads) const {
+        std::array<std::uint64_t, Chains> at{};
+        for (int chain = 0; chain < Chains; ++chain) {
+            at[static_cast<std::size_t>(chain)] = static_cast<std::uint64_t>(chain) * (count_ / Chains);
+        }
+        const std::size_t steps = loads / Chains;
+        const auto start = std::chrono::steady_clock::now();
+        for (std::size_t step = 0; step < steps; ++step) {
+            for (std::uint64_t& position : at) {
+                position = lines_[position].next;
+            }
+        }
+        const double seconds = seconds_since(start);
+        std::uint64_t sum = 0;
+        for (std::uint64_t position : at) {
+            sum += position;
+        }
+        sink_ = sum;  // keeps the chase from being optimised away
+        return seconds * 1e9 / static_cast<double>(steps * Chains);
+    }
+
+private:
+    std::size_t count_;
+    Line* lines_ = nullptr;
+    mutable volatile std::uint64_t sink_ = 0;
+};
+
+// Loads per measurement: about 0.1 s where each misses to DRAM.
+constexpr std::size_t loads_per_measure = std::size_t{1} << 21;
+// Misses in flight at once in the overlapped chase: above the line-fill buffers of any core of today (10–24).
+constexpr int chains_in_flight = 32;
+
+std::string size_text(std::size_t bytes) {
+    return bytes >= (std::size_t{1} << 20) ? std::to_string(bytes >> 20) + " MiB"
+                                           : std::to_string(bytes >> 10) + " KiB";
+}
+
+}  // namespace
+
+void bench_memory_floor(int runs, Report& report) {
+    const std::vector<Cache> caches = data_caches();
+    std::vector<std::pair<std::string, std::size_t>> buffers;  // what a row measures, its chase's bytes
+    std::size_t largest = 0;
+    for (const Cache& cache : caches) {
+        // Half a level: its loads hit it and miss the level below.
+        buffers.push_back({"L" + std::to_string(cache.level) + " (" + size_text(cache.bytes) + ")", cache.bytes / 2});
+        largest = std::max(largest, cache.bytes);
+    }
+    if (!caches.empty()) {
+        // An eighth of the last level too: a VM's share of a shared last level can be far below its size.
+        buffers.insert(buffers.end() - 1,
+                       {"L" + std::to_string(caches.back().level) + " (" + size_text(largest) + ")", largest / 8});
+    }
+    // Sixteen times the last level: a load hits a cache one time in sixteen at most.
+    const std::size_t dram_bytes = std::max<std::size_t>(16 * largest, std::size_t{256} << 20);
+    buffers.push_back({"DRAM", dram_bytes});
+    double dram_overlapped = 0;
+    for (const auto& [what, bytes] : buffers) {
+        Chase chase(bytes);
+        chase.ns_per_load<1>(loads_per_measure / 4);  // first touch and warm caches
+        std::vector<double> dependent, overlapped;
+        for (int run = 0; run < runs; ++run) {
+            dependent.push_back(chase.ns_per_load<1>(loads_per_measure));
+            overlapped.push_back(chase.ns_per_load<chains_in_flight>(loads_per_measure));
+        }
+        report.scaling_floor.add_row(
+            {what, size_text(bytes), cell("%.2f", median(dependent)), cell("%.2f", median(overlapped))});
+        dram_overlapped = median(overlapped);
+    }
+    // The honest floor of a primary ray at a million primitives: 2 to 5 new lines whose misses overlap.
+    report.scaling_floor.add_row({"floor of a primary ray: 2–5 new lines from DRAM in flight together", "", "",
+                                  cell("%.0f", 2 * dram_overlapped) + "–" + cell("%.0f", 5 * dram_overlapped)});
+}
+
+}  // namespace twinray::cli::bench
