@@ -3,17 +3,14 @@
 // node fetches) and with many in flight (rays whose walks overlap), so that a time per ray can be set against
 // what its cache lines cost at best.
 #include "cli/bench_run.h"
-
-#include <sys/mman.h>
+#include "render/large_array.h"
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdint>
-#include <cstdlib>
 #include <fstream>
 #include <random>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,7 +19,6 @@ namespace twinray::cli::bench {
 namespace {
 
 constexpr std::size_t line_bytes = 64;
-constexpr std::size_t huge_page_bytes = std::size_t{2} << 20;
 
 // One cache line: the index of the next line of the chase, and padding so that each load is a line of its own.
 struct alignas(line_bytes) Line {
@@ -61,32 +57,23 @@ std::vector<Cache> data_caches() {
 }
 
 // Lines in one random cycle (Sattolo's shuffle, a seeded portable generator reduced by our own modulo), on
-// 2 MB pages where the kernel grants them, so that a miss pays DRAM and not a page walk as well.
+// 2 MB pages as the tracers' large arrays are, so that a miss pays DRAM and not a page walk as well.
 class Chase {
 public:
-    explicit Chase(std::size_t bytes) : count_(bytes / line_bytes) {
-        const std::size_t rounded = (count_ * line_bytes + huge_page_bytes - 1) / huge_page_bytes * huge_page_bytes;
-        lines_ = static_cast<Line*>(std::aligned_alloc(huge_page_bytes, rounded));
-        if (lines_ == nullptr) {
-            throw std::runtime_error("bench: cannot allocate " + std::to_string(rounded) +
-                                     " bytes for the memory floor");
-        }
-        madvise(lines_, rounded, MADV_HUGEPAGE);
-        std::vector<std::uint64_t> order(count_);
-        for (std::size_t i = 0; i < count_; ++i) {
+    explicit Chase(std::size_t bytes) : lines_(bytes / line_bytes) {
+        const std::size_t count = lines_.size();
+        std::vector<std::uint64_t> order(count);
+        for (std::size_t i = 0; i < count; ++i) {
             order[i] = i;
         }
         std::mt19937_64 random(2026);
-        for (std::size_t i = count_ - 1; i > 0; --i) {
+        for (std::size_t i = count - 1; i > 0; --i) {
             std::swap(order[i], order[random() % i]);
         }
-        for (std::size_t i = 0; i < count_; ++i) {
-            lines_[order[i]].next = order[(i + 1) % count_];
+        for (std::size_t i = 0; i < count; ++i) {
+            lines_[order[i]].next = order[(i + 1) % count];
         }
     }
-    ~Chase() { std::free(lines_); }
-    Chase(const Chase&) = delete;
-    Chase& operator=(const Chase&) = delete;
 
     // Nanoseconds per load over `loads` loads in Chains independent chains, interleaved: a chain's loads wait for
     // each other, the chains' do not.
@@ -94,7 +81,7 @@ public:
     double ns_per_load(std::size_t loads) const {
         std::array<std::uint64_t, Chains> at{};
         for (int chain = 0; chain < Chains; ++chain) {
-            at[static_cast<std::size_t>(chain)] = static_cast<std::uint64_t>(chain) * (count_ / Chains);
+            at[static_cast<std::size_t>(chain)] = static_cast<std::uint64_t>(chain) * (lines_.size() / Chains);
         }
         const std::size_t steps = loads / Chains;
         const auto start = std::chrono::steady_clock::now();
@@ -113,8 +100,7 @@ public:
     }
 
 private:
-    std::size_t count_;
-    Line* lines_ = nullptr;
+    LargeArray<Line> lines_;
     mutable volatile std::uint64_t sink_ = 0;
 };
 
