@@ -21,11 +21,11 @@ plot summary using (($10) > floor ? $10 : floor):2 every ::1 with points pt 7 ps
 unset multiplot
 
 # Time per ray against the primitive count, one panel per family, from bench-scaling.csv (renders: every ray)
-# and bench-scaling-peers.csv (first hits of primary rays, Embree on its widest kernels and on SSE4.2; POV-Ray's
-# trace, from its statistics, over our rays). Cells left out ("—") are not numbers and are skipped.
+# and bench-scaling-peers.csv (first hits of primary rays, Embree on its widest kernels, on SSE4.2 and as coherent
+# packets; POV-Ray's trace, from its statistics, over our rays). Cells left out ("—") are not numbers and are skipped.
 set output outdir."/scaling.png"
-set terminal pngcairo size 1500,560 font "DejaVu Sans,10"
-set multiplot layout 1,3 title "twinray bench --scaling: time per ray against primitives (one thread, CPU time; log-log)"
+set terminal pngcairo size 2200,560 font "DejaVu Sans,10"
+set multiplot layout 1,5 title "twinray bench --scaling: time per ray against primitives (one thread, CPU time; log-log)"
 set logscale xy
 set format x "10^{%L}"
 set format y "10^{%L}"
@@ -35,7 +35,7 @@ set xrange [5:2e6]
 set yrange [3:3e7]
 set key top left font ",8"
 in_family(family, value) = strcol(1) eq family ? value : NaN
-do for [family in "spheres fractal lattice"] {
+do for [family in "spheres fractal lattice sphere-mesh tetra"] {
     set title family
     plot scaling using 2:(in_family(family, column(3))) with linespoints lw 2 pt 7 lc rgb "#1f77b4" title "sse bvh", \
          scaling using 2:(in_family(family, column(4))) with linespoints lw 2 pt 6 dt 2 lc rgb "#1f77b4" title "sse brute force", \
@@ -44,6 +44,7 @@ do for [family in "spheres fractal lattice"] {
          peers using 2:(in_family(family, column(4))) with linespoints lw 2 pt 9 lc rgb "#2ca02c" title "sse first hit", \
          peers using 2:(in_family(family, column(5))) with linespoints lw 2 pt 8 lc rgb "#ff7f0e" title "embree rtcIntersect1 first hit", \
          peers using 2:(in_family(family, column(7))) with linespoints lw 2 pt 8 dt 2 lc rgb "#ff7f0e" title "embree SSE4.2 first hit", \
-         peers using 2:(in_family(family, column(15))) with linespoints lw 2 pt 3 lc rgb "#9467bd" title "povray +WT1 trace, per our ray"
+         peers using 2:(in_family(family, column(13))) with linespoints lw 2 pt 8 dt 3 lc rgb "#8c564b" title "embree coherent packets first hit", \
+         peers using 2:(in_family(family, column(22))) with linespoints lw 2 pt 3 lc rgb "#9467bd" title "povray +WT1 trace, per our ray"
 }
 unset multiplot
