@@ -3,10 +3,12 @@
 // reported with the ray that shows it (tests/plugins/faulty_tracer.c).
 #include "plugin/plugin.h"
 #include "plugin/conformance.h"
+#include "plugin/hand_solved.h"
 #include "plugin/plugin_intersector.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
 #include "scene/placement.h"
+#include "sse/cpu.h"
 #include "tests/run_twinray.h"
 #include "tests/scene_builder.h"
 
@@ -14,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -247,6 +250,101 @@ TEST(Conform, TheExampleGetsAVerdictPerCaseWithItsFiguresAndAJUnitReport) {
         << xml;
     EXPECT_NE(xml.find("<testsuite name=\"watertight\" tests=\"16\""), std::string::npos) << xml;
     EXPECT_NE(xml.find("<testcase classname=\"conform.watertight\" name=\"grid at 1\""), std::string::npos) << xml;
+}
+
+// The library's hand-solved cases as a tracer intersecting `kinds` meets them in `conform --suite hand-solved`: those
+// the ABI's contract decides, those that hold a tie rule of twinray's own (plugin::HandSolvedCase::own_rule), and
+// those skipped for a kind the tracer lacks.
+struct HandSolvedShare {
+    int held_to_the_contract = 0, of_twinrays_own_rule = 0, skipped = 0;
+};
+
+HandSolvedShare hand_solved_share(std::uint32_t kinds) {
+    HandSolvedShare share;
+    for (const plugin::HandSolvedCase& hand_solved : plugin::hand_solved_cases()) {
+        if (!plugin::missing_kinds(hand_solved.scene, kinds).empty()) {
+            ++share.skipped;
+        } else if (!hand_solved.own_rule.empty()) {
+            ++share.of_twinrays_own_rule;
+        } else {
+            ++share.held_to_the_contract;
+        }
+    }
+    return share;
+}
+
+// Möller–Trumbore with inclusive edges takes a mesh's outer corner that twinray's tie rule leaves out: that case
+// warns, every other one the example intersects (spheres and meshes) passes.
+TEST(Conform, TheExamplePassesEveryHandSolvedCaseItIntersectsAndIsSkippedOnTheKindsItLacks) {
+    const std::string junit = output_file("conform_example_hand_solved.xml");
+    std::remove(junit.c_str());
+    const test::CommandResult run =
+        test::run_twinray("conform " + std::string(TWINRAY_EXAMPLE_TRACER) + " --suite hand-solved --junit " + junit);
+    EXPECT_EQ(run.exit_status, 0) << run.output;
+    const HandSolvedShare share = hand_solved_share(example().table().kinds);
+    EXPECT_EQ(share.of_twinrays_own_rule, 1);
+    EXPECT_GT(share.held_to_the_contract, 10);
+    EXPECT_NE(run.output.find(std::to_string(share.held_to_the_contract) + " pass, " +
+                              std::to_string(share.of_twinrays_own_rule) + " warn, 0 fail, " +
+                              std::to_string(share.skipped) + " skipped"),
+              std::string::npos)
+        << run.output;
+    EXPECT_NE(run.output.find("warn    IntersectionMesh.RaysThroughCornersHitOnlyWhereThePerturbedOriginLiesInside: "
+                              "ray from (0, 2, 5) along (0, 0, -1): a hit at t = 5, leaf 1, expected a miss"),
+              std::string::npos)
+        << run.output;
+    EXPECT_NE(run.output.find("pass    IntersectionSphere.HeadOnHitIsAtTheNearSurfaceWithTheRadialNormal: 1 ray as "
+                              "solved by hand, worst error "),
+              std::string::npos)
+        << run.output;
+    EXPECT_NE(run.output.find("skipped IntersectionPlane.HitFromTheOutsideEntersWithTheOutwardNormal: the scene holds "
+                              "what the tracer does not intersect: plane"),
+              std::string::npos)
+        << run.output;
+    std::ifstream file(junit);
+    const std::string xml((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    EXPECT_NE(xml.find("<testsuite name=\"hand-solved\" tests=\"" + std::to_string(plugin::hand_solved_cases().size()) +
+                       "\" failures=\"0\" skipped=\"" + std::to_string(share.skipped) + "\">"),
+              std::string::npos)
+        << xml;
+}
+
+TEST(Conform, TheSseTracerCalledDirectlyPassesEveryHandSolvedCase) {
+    if (!sse::cpu_supports_sse41()) {
+        GTEST_SKIP() << sse::missing_sse41_message();
+    }
+    const test::CommandResult run = test::run_twinray("conform sse --suite hand-solved");
+    EXPECT_EQ(run.exit_status, 0) << run.output;
+    EXPECT_NE(run.output.find(std::to_string(plugin::hand_solved_cases().size()) + " pass, 0 warn, 0 fail, 0 skipped"),
+              std::string::npos)
+        << run.output;
+}
+
+// A tracer that keeps the ABI's contract but answers every ray with object 0 at t = 1 (the faulty tracer's control)
+// fails every case it can intersect, naming the ray and the figures that differ; one that breaks the contract fails
+// with the ray that shows it.
+TEST(Conform, AWrongPluginFailsTheHandSolvedSuiteNamingTheRayAndWhatDiffered) {
+    const std::string faulty = std::string(TWINRAY_FAULTY_TRACER_DIR) + "/libfaulty_tracer_";
+    const test::CommandResult wrong = test::run_twinray("conform " + faulty + "none.so --suite hand-solved");
+    EXPECT_EQ(wrong.exit_status, 10) << wrong.output;
+    const HandSolvedShare share = hand_solved_share(plugin::Plugin(faulty + "none.so").table().kinds);
+    EXPECT_EQ(share.of_twinrays_own_rule, 0) << "a sphere-only tracer meets no tie rule of a mesh's";
+    EXPECT_NE(wrong.output.find("0 pass, 0 warn, " + std::to_string(share.held_to_the_contract) + " fail, " +
+                                std::to_string(share.skipped) + " skipped"),
+              std::string::npos)
+        << wrong.output;
+    EXPECT_NE(wrong.output.find("fail    IntersectionSphere.HeadOnHitIsAtTheNearSurfaceWithTheRadialNormal: ray from "
+                                "(1, -2, 10.5) along (0, 0, -1): t 1 expected 8.5, error 7.5 > 3.05e-05; point (1, -2, "
+                                "9.5) expected (1, -2, 2), error 7.5 > 3.05e-05; leaf 0, expected 1\n"),
+              std::string::npos)
+        << wrong.output;
+    const test::CommandResult broken = test::run_twinray("conform " + faulty + "unknown_object.so --suite hand-solved");
+    EXPECT_EQ(broken.exit_status, 10) << broken.output;
+    EXPECT_NE(
+        broken.output.find("fail    IntersectionSphere.HeadOnHitIsAtTheNearSurfaceWithTheRadialNormal: the tracer "
+                           "\"faulty\" returned object 1000 of 2 for the ray from (1, -2, 10.5) along (0, 0, -1)"),
+        std::string::npos)
+        << broken.output;
 }
 
 // Embree through the ABI, as its documentation describes it: the default mode lets rays through shared edges of a

@@ -1,5 +1,5 @@
 // The span operations of reference/csg.h directly, on spans along a line in +x. The first hits they give
-// through whole CSG trees are expectations of every tracer: hit_csg_test.cpp.
+// through whole CSG trees are hand-solved expectations of every tracer: src/plugin/hand_solved_csg.cpp.
 #include "reference/csg.h"
 
 #include <gtest/gtest.h>

@@ -38,8 +38,10 @@ struct ConformArguments {
 };
 
 // --suite's names for the suites of plugin/conformance.h.
-const std::map<std::string, std::string> suite_keys{
-    {"primary", "primary rays"}, {"far", "far from the origin"}, {"watertight", "watertight"}};
+const std::map<std::string, std::string> suite_keys{{"hand-solved", "hand-solved"},
+                                                    {"primary", "primary rays"},
+                                                    {"far", "far from the origin"},
+                                                    {"watertight", "watertight"}};
 
 // What became of work run in a child process.
 struct ChildAnswer {
@@ -257,11 +259,13 @@ int run_conform(const ConformArguments& arguments) {
     }
     std::printf("tracer:  %s\nlibrary: %s\n", description.c_str(), path == "sse" ? "(built in)" : path.c_str());
     std::printf(
+        "hand-solved rays: t, point and normal within %g unit roundoffs times the size scale %g, else fail (warn on a "
+        "rule of twinray's own); "
         "primary rays at %d x %d; thresholds: t error within %g unit roundoffs of |o|+t passes, within %g "
         "warns; any disagreement warns, more than %g of the rays fails; every case in a child process, at "
         "most %g s each\n\n",
-        arguments.width, arguments.height, plugin::t_error_pass, plugin::t_error_warn, plugin::disagreement_warn,
-        arguments.time_limit);
+        plugin::ieee_roundings, plugin::hand_solved_size_scale, arguments.width, arguments.height, plugin::t_error_pass,
+        plugin::t_error_warn, plugin::disagreement_warn, arguments.time_limit);
     std::vector<Judged> judged;
     std::map<plugin::Verdict, int> counts;
     std::string suite;
@@ -318,7 +322,7 @@ void add_conform_command(CLI::App& app, std::function<int()>& run) {
     CLI::App* command = app.add_subcommand(
         "conform",
         "Judge a tracer behind the tracer ABI (docs/plugins.md), or with `sse` twinray's own SSE tracer called "
-        "directly, ray by ray against the double-precision oracle: "
+        "directly, ray by ray: the hand-solved expectations, then against the double-precision oracle the "
         "primary rays of each scene (a built-in pair without any), the same moved far from the origin, and the "
         "watertightness rays (exit 0: no case failed; 10: some did; 7: the plug-in cannot be used)");
     command->add_option("tracer", arguments->plugin_path, "The tracer's shared library, or sse")->required();
@@ -340,8 +344,10 @@ void add_conform_command(CLI::App& app, std::function<int()>& run) {
                      "Seconds each case may take before the tracer is called hung")
         ->check(CLI::Range(0.1, 86400.0))
         ->capture_default_str();
-    command->add_option("--suite", arguments->suites, "Only these suites: primary, far, watertight (repeatable)")
-        ->check(CLI::IsMember({"primary", "far", "watertight"}));
+    command
+        ->add_option("--suite", arguments->suites,
+                     "Only these suites: hand-solved, primary, far, watertight (repeatable)")
+        ->check(CLI::IsMember({"hand-solved", "primary", "far", "watertight"}));
     command->add_option("--junit", arguments->junit_path, "Also write the verdicts as JUnit XML here (atomically)");
     command->callback([arguments, &run] { run = [arguments] { return run_conform(*arguments); }; });
 }

@@ -123,6 +123,42 @@ CaseResult judge_primary_rays(const JudgedTracer& tracer, const scene::Scene& sc
     return result;
 }
 
+CaseResult judge_hand_solved(const JudgedTracer& tracer, const HandSolvedCase& hand_solved) {
+    if (std::optional<CaseResult> skipped = lacking(tracer, hand_solved.scene)) {
+        return *skipped;
+    }
+    const std::unique_ptr<JudgedScene> built = tracer.build(hand_solved.scene);
+    const double tolerance = hand_solved_tolerance(tracer.unit_roundoff());
+    std::string first_difference;
+    std::size_t differing = 0;
+    std::optional<double> worst;
+    for (const HandSolvedRay& ray : hand_solved.rays) {
+        const RayCheck check = check_first_hit(ray, first_hit(*built, ray.origin, ray.direction), tolerance);
+        if (check.worst_error) {
+            worst = std::max(worst.value_or(0), *check.worst_error);
+        }
+        if (check.differences.empty()) {
+            continue;
+        }
+        if (++differing == 1) {
+            first_difference = ray_name(ray) + ": " + differences_text(check);
+        }
+    }
+    const std::size_t rays = hand_solved.rays.size();
+    if (differing == 0) {
+        const std::string as_solved = format("%zu ray%s as solved by hand", rays, rays == 1 ? "" : "s");
+        return {Verdict::pass, worst ? as_solved + format(", worst error %.3g of %.3g", *worst, tolerance)
+                                     : as_solved + ", every one a miss"};
+    }
+    if (differing > 1) {
+        first_difference += format(" (and %zu more of the %zu rays)", differing - 1, rays);
+    }
+    if (!hand_solved.own_rule.empty()) {
+        return {Verdict::warn, first_difference + " (" + hand_solved.own_rule + ")"};
+    }
+    return {Verdict::fail, first_difference};
+}
+
 CaseResult judge_watertight(const JudgedTracer& tracer, const std::string& family, double distance, int rays_per_size) {
     accuracy::WatertightTally total;
     for (double size : accuracy::watertight_sizes()) {
@@ -159,6 +195,11 @@ CaseResult judge_watertight(const JudgedTracer& tracer, const std::string& famil
 std::vector<ConformCase> conformance_cases(const std::vector<NamedScene>& scenes, int width, int height,
                                            int watertight_rays_per_size) {
     std::vector<ConformCase> cases;
+    for (const HandSolvedCase& hand_solved : hand_solved_cases()) {
+        cases.push_back(
+            {"hand-solved", hand_solved.suite + "." + hand_solved.name,
+             [&hand_solved](const JudgedTracer& tracer) { return judge_hand_solved(tracer, hand_solved); }});
+    }
     for (const NamedScene& named : scenes) {
         cases.push_back({"primary rays", named.name, [&named, width, height](const JudgedTracer& tracer) {
                              return judge_primary_rays(tracer, named.scene, width, height);

@@ -1,8 +1,10 @@
-// The per-ray suites `twinray conform` runs against a tracer (a plug-in, or the SSE tracer directly) (docs/plugins.md): each case judged against the
-// double-precision oracle with the thresholds below, in this process; the command runs each case in a child
-// process of its own, so that a plug-in that crashes or hangs costs its case a verdict, not twinray its report.
+// The per-ray suites `twinray conform` runs against a tracer (a plug-in, or the SSE tracer directly)
+// (docs/plugins.md): each case judged against the hand-solved expectations or the double-precision oracle with the
+// thresholds below, in this process; the command runs each case in a child process of its own, so that a plug-in
+// that crashes or hangs costs its case a verdict, not twinray its report.
 #pragma once
 
+#include "plugin/hand_solved.h"
 #include "plugin/judged_tracer.h"
 #include "reference/tracer.h"
 #include "scene/scene.h"
@@ -39,8 +41,14 @@ CaseResult judge_primary_rays(const JudgedTracer& tracer, const scene::Scene& sc
 // cross exactly one triangle along its length (hits_along). Any miss or double hit fails.
 CaseResult judge_watertight(const JudgedTracer& tracer, const std::string& family, double distance, int rays_per_size);
 
+// One hand-solved case (plugin/hand_solved.h): each of its rays' first hit as solved, within
+// hand_solved_tolerance(the tracer's unit roundoff), with a normal of unit length facing the ray; a miss where it
+// misses. Any difference fails, naming the first ray that shows it and what differed; a case that holds twinray's
+// own rule warns instead. Skipped where the scene holds a kind the tracer lacks.
+CaseResult judge_hand_solved(const JudgedTracer& tracer, const HandSolvedCase& hand_solved);
+
 struct ConformCase {
-    std::string suite;  // "primary rays", "far from the origin", "watertight"
+    std::string suite;  // "hand-solved", "primary rays", "far from the origin", "watertight"
     std::string name;   // within the suite
     std::function<CaseResult(const JudgedTracer&)> run;
 };
@@ -50,8 +58,8 @@ struct NamedScene {
     scene::Scene scene;
 };
 
-// The primary-ray case of each scene, then each scene moved 1e3, 1e5 and 1e7 away from the origin (camera, lights
-// and all: numerics::transformed), then the watertight cases.
+// Every hand-solved case, then the primary-ray case of each scene, then each scene moved 1e3, 1e5 and 1e7 away from
+// the origin (camera, lights and all: numerics::transformed), then the watertight cases.
 std::vector<ConformCase> conformance_cases(const std::vector<NamedScene>& scenes, int width, int height,
                                            int watertight_rays_per_size);
 
