@@ -320,6 +320,26 @@ TEST(Conform, TheSseTracerCalledDirectlyPassesEveryHandSolvedCase) {
         << run.output;
 }
 
+// The extremes suite judges each built-in scene scaled by 1e-4 and 1e6 and seen from 100 and 10 000 times as far:
+// the double-precision example agrees with the oracle in all eight, and the faulty tracer's control, a sphere-only
+// tracer that answers object 0 at t = 1 for every ray, fails the four of the sphere field (the mesh's are skipped).
+TEST(Conform, TheExtremesSuiteJudgesEachSceneAtEachScaleAndDistance) {
+    const test::CommandResult example =
+        test::run_twinray("conform " + std::string(TWINRAY_EXAMPLE_TRACER) + " --suite extremes");
+    EXPECT_EQ(example.exit_status, 0) << example.output;
+    EXPECT_NE(example.output.find("8 pass, 0 warn, 0 fail, 0 skipped"), std::string::npos) << example.output;
+    for (const char* extreme :
+         {"scaled by 1e-4", "scaled by 1e6", "seen from 100 times as far", "seen from 10 000 times as far"}) {
+        EXPECT_NE(example.output.find(std::string("pass    300 spheres ") + extreme + ": "), std::string::npos)
+            << extreme << "\n"
+            << example.output;
+    }
+    const test::CommandResult wrong = test::run_twinray("conform " + std::string(TWINRAY_FAULTY_TRACER_DIR) +
+                                                        "/libfaulty_tracer_none.so --suite extremes");
+    EXPECT_EQ(wrong.exit_status, 10) << wrong.output;
+    EXPECT_NE(wrong.output.find("0 pass, 0 warn, 4 fail, 4 skipped"), std::string::npos) << wrong.output;
+}
+
 // A tracer that keeps the ABI's contract but answers every ray with object 0 at t = 1 (the faulty tracer's control)
 // fails every case it can intersect, naming the ray and the figures that differ; one that breaks the contract fails
 // with the ray that shows it.

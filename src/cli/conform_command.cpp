@@ -41,6 +41,7 @@ struct ConformArguments {
 const std::map<std::string, std::string> suite_keys{{"hand-solved", "hand-solved"},
                                                     {"primary", "primary rays"},
                                                     {"far", "far from the origin"},
+                                                    {"extremes", "extremes"},
                                                     {"watertight", "watertight"}};
 
 // What became of work run in a child process.
@@ -346,8 +347,8 @@ void add_conform_command(CLI::App& app, std::function<int()>& run) {
         ->capture_default_str();
     command
         ->add_option("--suite", arguments->suites,
-                     "Only these suites: hand-solved, primary, far, watertight (repeatable)")
-        ->check(CLI::IsMember({"hand-solved", "primary", "far", "watertight"}));
+                     "Only these suites: hand-solved, primary, far, extremes, watertight (repeatable)")
+        ->check(CLI::IsMember({"hand-solved", "primary", "far", "extremes", "watertight"}));
     command->add_option("--junit", arguments->junit_path, "Also write the verdicts as JUnit XML here (atomically)");
     command->callback([arguments, &run] { run = [arguments] { return run_conform(*arguments); }; });
 }

@@ -214,6 +214,25 @@ std::vector<ConformCase> conformance_cases(const std::vector<NamedScene>& scenes
                              }});
         }
     }
+    // The extremes of scale the tests hold the SSE tracer to (tests/extremes_scale_test.cpp): a scene far smaller
+    // and far larger than its numbers' unit, and one seen from so far that its rays travel t ≫ |p| to it.
+    struct Extreme {
+        const char* name;
+        double scale, camera_distance;
+    };
+    for (const Extreme extreme :
+         {Extreme{"scaled by 1e-4", 1e-4, 1}, Extreme{"scaled by 1e6", 1e6, 1},
+          Extreme{"seen from 100 times as far", 1, 1e2}, Extreme{"seen from 10 000 times as far", 1, 1e4}}) {
+        for (const NamedScene& named : scenes) {
+            cases.push_back({"extremes", named.name + " " + extreme.name,
+                             [&named, width, height, extreme](const JudgedTracer& tracer) {
+                                 return judge_primary_rays(
+                                     tracer,
+                                     numerics::transformed(named.scene, extreme.scale, 0, extreme.camera_distance),
+                                     width, height);
+                             }});
+        }
+    }
     for (const std::string& family : accuracy::watertight_families()) {
         for (double distance : accuracy::watertight_distances()) {
             cases.push_back({"watertight", family + format(" at %g", distance),

@@ -48,7 +48,7 @@ CaseResult judge_watertight(const JudgedTracer& tracer, const std::string& famil
 CaseResult judge_hand_solved(const JudgedTracer& tracer, const HandSolvedCase& hand_solved);
 
 struct ConformCase {
-    std::string suite;  // "hand-solved", "primary rays", "far from the origin", "watertight"
+    std::string suite;  // "hand-solved", "primary rays", "far from the origin", "extremes", "watertight"
     std::string name;   // within the suite
     std::function<CaseResult(const JudgedTracer&)> run;
 };
@@ -59,7 +59,8 @@ struct NamedScene {
 };
 
 // Every hand-solved case, then the primary-ray case of each scene, then each scene moved 1e3, 1e5 and 1e7 away from
-// the origin (camera, lights and all: numerics::transformed), then the watertight cases.
+// the origin (camera, lights and all: numerics::transformed), then each scaled by 1e-4 and 1e6 and seen from 100 and
+// 10 000 times as far (the field of view narrowed to frame the same image), then the watertight cases.
 std::vector<ConformCase> conformance_cases(const std::vector<NamedScene>& scenes, int width, int height,
                                            int watertight_rays_per_size);
 
