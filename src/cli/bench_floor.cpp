@@ -4,13 +4,13 @@
 // what its cache lines cost at best.
 #include "cli/bench_run.h"
 #include "render/large_array.h"
+#include "scene/portable_random.h"
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdint>
 #include <fstream>
-#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -56,7 +56,7 @@ std::vector<Cache> data_caches() {
     return caches;
 }
 
-// Lines in one random cycle (Sattolo's shuffle, a seeded portable generator reduced by our own modulo), on
+// Lines in one random cycle (Sattolo's shuffle over SplitMix64, the project's seeded portable generator), on
 // 2 MB pages as the tracers' large arrays are, so that a miss pays DRAM and not a page walk as well.
 class Chase {
 public:
@@ -66,9 +66,9 @@ public:
         for (std::size_t i = 0; i < count; ++i) {
             order[i] = i;
         }
-        std::mt19937_64 random(2026);
+        SplitMix64 random(2026);
         for (std::size_t i = count - 1; i > 0; --i) {
-            std::swap(order[i], order[random() % i]);
+            std::swap(order[i], order[random.next() % i]);
         }
         for (std::size_t i = 0; i < count; ++i) {
             lines_[order[i]].next = order[(i + 1) % count];
@@ -114,6 +114,11 @@ std::string size_text(std::size_t bytes) {
                                            : std::to_string(bytes >> 10) + " KiB";
 }
 
+// "L2 (1 MiB)"
+std::string cache_name(const Cache& cache) {
+    return "L" + std::to_string(cache.level) + " (" + size_text(cache.bytes) + ")";
+}
+
 }  // namespace
 
 void bench_memory_floor(int runs, Report& report) {
@@ -122,18 +127,17 @@ void bench_memory_floor(int runs, Report& report) {
     std::size_t largest = 0;
     for (const Cache& cache : caches) {
         // Half a level: its loads hit it and miss the level below.
-        buffers.push_back({"L" + std::to_string(cache.level) + " (" + size_text(cache.bytes) + ")", cache.bytes / 2});
+        buffers.push_back({cache_name(cache), cache.bytes / 2});
         largest = std::max(largest, cache.bytes);
     }
     if (!caches.empty()) {
         // An eighth of the last level too: a VM's share of a shared last level can be far below its size.
-        buffers.insert(buffers.end() - 1,
-                       {"L" + std::to_string(caches.back().level) + " (" + size_text(largest) + ")", largest / 8});
+        buffers.insert(buffers.end() - 1, {cache_name(caches.back()), caches.back().bytes / 8});
     }
     // Sixteen times the last level: a load hits a cache one time in sixteen at most.
     const std::size_t dram_bytes = std::max<std::size_t>(16 * largest, std::size_t{256} << 20);
     buffers.push_back({"DRAM", dram_bytes});
-    double dram_overlapped = 0;
+    double overlapped_ns = 0;  // the last row's: DRAM's
     for (const auto& [what, bytes] : buffers) {
         Chase chase(bytes);
         chase.ns_per_load<1>(loads_per_measure / 4);  // first touch and warm caches
@@ -142,13 +146,13 @@ void bench_memory_floor(int runs, Report& report) {
             dependent.push_back(chase.ns_per_load<1>(loads_per_measure));
             overlapped.push_back(chase.ns_per_load<chains_in_flight>(loads_per_measure));
         }
+        overlapped_ns = median(overlapped);
         report.scaling_floor.add_row(
-            {what, size_text(bytes), cell("%.2f", median(dependent)), cell("%.2f", median(overlapped))});
-        dram_overlapped = median(overlapped);
+            {what, size_text(bytes), cell("%.2f", median(dependent)), cell("%.2f", overlapped_ns)});
     }
     // The honest floor of a primary ray at a million primitives: 2 to 5 new lines whose misses overlap.
     report.scaling_floor.add_row({"floor of a primary ray: 2–5 new lines from DRAM in flight together", "", "",
-                                  cell("%.0f", 2 * dram_overlapped) + "–" + cell("%.0f", 5 * dram_overlapped)});
+                                  cell("%.0f", 2 * overlapped_ns) + "–" + cell("%.0f", 5 * overlapped_ns)});
 }
 
 }  // namespace twinray::cli::bench

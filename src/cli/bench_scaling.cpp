@@ -206,8 +206,8 @@ struct SizeRun {
     }
 
     // First hits of the SSE tracer (--accel as given), Embree's rtcIntersect1 (embree_variants) and its coherent
-    // packets on the same
-    // primary rays, both BVHs' builds, and POV-Ray's trace against the SSE BVH's render, at the SSE BVH's width.
+    // packets on the same primary rays, both BVHs' builds, and POV-Ray's trace against the SSE BVH's render, at the
+    // SSE BVH's width.
     void peers(const Timings& sse_bvh, int sse_width) const {
         progress(" first-hits, builds");
         RenderOptions options;

@@ -1,4 +1,5 @@
 #include "cli/diff_report.h"
+#include "io/formatted.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -29,19 +30,13 @@ std::string html_escape(const std::string& text) {
     return out;
 }
 
-std::string format(const char* pattern, double value) {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, pattern, value);
-    return buffer;
-}
-
 std::string count_of(long count, const std::string& noun) {
     return std::to_string(count) + " " + noun + (count == 1 ? "" : "s");
 }
 
 // 1e-07 as 1e-7: the legend's ticks read as a user would write them.
 std::string short_number(double value) {
-    std::string text = format("%.3g", value);
+    std::string text = io::formatted("%.3g", value);
     for (const char* padded : {"e-0", "e+0"}) {
         if (auto at = text.find(padded); at != std::string::npos) {
             text.replace(at, 3, padded[1] == '-' ? "e-" : "e");
@@ -89,7 +84,7 @@ std::string flip_figure(const SceneReport& r) {
 std::string cluster_description(const compare::FailingCluster& cluster) {
     return count_of(cluster.pixels, "failing pixel") + " in x " + std::to_string(cluster.left) + "–" +
            std::to_string(cluster.right) + ", y " + std::to_string(cluster.top) + "–" + std::to_string(cluster.bottom) +
-           "; worst " + format("%.4g", cluster.worst.error) + " at (" + std::to_string(cluster.worst.x) + ", " +
+           "; worst " + io::formatted("%.4g", cluster.worst.error) + " at (" + std::to_string(cluster.worst.x) + ", " +
            std::to_string(cluster.worst.y) + ")";
 }
 
@@ -125,21 +120,21 @@ std::string metrics_table(const SceneReport& r) {
     const compare::Thresholds& t = r.tolerances.sse;
     std::ostringstream html;
     html << "<table>"
-         << "<tr><th>max</th><td>" << format("%.4g", r.metrics.max_error) << " at (" << r.metrics.max_x << ", "
+         << "<tr><th>max</th><td>" << io::formatted("%.4g", r.metrics.max_error) << " at (" << r.metrics.max_x << ", "
          << r.metrics.max_y << ") "
          << "RGB"[std::clamp(r.metrics.max_channel, 0, 2)] << "</td></tr>"
-         << "<tr><th>over " << format("%.4g", t.fail) << "</th><td>" << r.metrics.fail_pixels << " ("
+         << "<tr><th>over " << io::formatted("%.4g", t.fail) << "</th><td>" << r.metrics.fail_pixels << " ("
          << percent(r.metrics.fail_pixels, r.metrics.pixel_count) << ")</td></tr>"
-         << "<tr><th>allowed</th><td>&le;&nbsp;" << format("%.4g", t.fail_percent) << "% over, max &le;&nbsp;"
-         << format("%.4g", t.hard_fail) << "</td></tr>"
-         << "<tr><th>mean, RMS</th><td>" << format("%.3g", r.metrics.mean_error) << ", "
-         << format("%.3g", r.metrics.rms_error) << "</td></tr>"
-         << "<tr><th>PSNR</th><td>" << format("%.1f dB", r.metrics.psnr) << "</td></tr>"
-         << "<tr><th>render</th><td>reference " << format("%.3f s", r.reference_seconds) << ", "
-         << html_escape(r.judged) << " " << format("%.3f s", r.sse_seconds) << ": "
-         << format("%.1f&times;", r.reference_seconds / r.sse_seconds)
+         << "<tr><th>allowed</th><td>&le;&nbsp;" << io::formatted("%.4g", t.fail_percent) << "% over, max &le;&nbsp;"
+         << io::formatted("%.4g", t.hard_fail) << "</td></tr>"
+         << "<tr><th>mean, RMS</th><td>" << io::formatted("%.3g", r.metrics.mean_error) << ", "
+         << io::formatted("%.3g", r.metrics.rms_error) << "</td></tr>"
+         << "<tr><th>PSNR</th><td>" << io::formatted("%.1f dB", r.metrics.psnr) << "</td></tr>"
+         << "<tr><th>render</th><td>reference " << io::formatted("%.3f s", r.reference_seconds) << ", "
+         << html_escape(r.judged) << " " << io::formatted("%.3f s", r.sse_seconds) << ": "
+         << io::formatted("%.1f&times;", r.reference_seconds / r.sse_seconds)
          << " <small>(tracing only: loading the scene and compiling it excluded)</small></td></tr>"
-         << "<tr><th>causes</th><td>of the pixels over " << format("%.4g", t.warn) << ": ";
+         << "<tr><th>causes</th><td>of the pixels over " << io::formatted("%.4g", t.warn) << ": ";
     for (int c = 0; c < accuracy::cause_count; ++c) {
         html << (c > 0 ? ", " : "") << accuracy::cause_name(static_cast<accuracy::Cause>(c)) << " "
              << r.attribution.counts[static_cast<std::size_t>(c)];
@@ -155,10 +150,10 @@ std::string facts(const SceneReport& r) {
     std::ostringstream html;
     html << "<div class=\"facts\">" << metrics_table(r);
     if (r.povray) {
-        html << "<p>POV-Ray " << format("%.3f s", r.povray->seconds)
+        html << "<p>POV-Ray " << io::formatted("%.3f s", r.povray->seconds)
              << " (one thread, with start-up): " << percent(r.povray->within_two_levels, r.povray->metrics.pixel_count)
              << " of pixels within 2/255 of the reference, max "
-             << format("%.0f/255", r.povray->metrics.max_error * 255.0) << "</p>";
+             << io::formatted("%.0f/255", r.povray->metrics.max_error * 255.0) << "</p>";
     }
     if (!r.tolerances.why.empty()) {
         html << "<details class=\"why\"><summary>why these thresholds</summary>" << html_escape(r.tolerances.why)
@@ -176,7 +171,7 @@ std::string facts(const SceneReport& r) {
     }
     html << "<details><summary>worst " << r.worst.size() << " pixels</summary><ol>";
     for (const compare::PixelError& pixel : r.worst) {
-        html << "<li>(" << pixel.x << ", " << pixel.y << ") " << format("%.4g", pixel.error)
+        html << "<li>(" << pixel.x << ", " << pixel.y << ") " << io::formatted("%.4g", pixel.error)
              << copyable(probe_command(r, pixel)) << "</li>";
     }
     html << "</ol></details></div>\n";
@@ -189,11 +184,11 @@ std::string scene_section(const SceneReport& r) {
     html << "<section class=\"scene " << verdict << "\" data-status=\"" << verdict << "\" data-name=\""
          << html_escape(r.name) << "\">\n<header><h2>" << html_escape(r.name) << "</h2><span class=\"badge " << verdict
          << "\">" << verdict << "</span><span>" << r.width << "&times;" << r.height << "</span><span>"
-         << count_of(r.metrics.fail_pixels, "pixel") << " over " << format("%.4g", r.tolerances.sse.fail) << " ("
-         << percent(r.metrics.fail_pixels, r.metrics.pixel_count) << "), max " << format("%.4g", r.metrics.max_error)
-         << "</span></header>\n<div class=\"panels\">\n"
+         << count_of(r.metrics.fail_pixels, "pixel") << " over " << io::formatted("%.4g", r.tolerances.sse.fail) << " ("
+         << percent(r.metrics.fail_pixels, r.metrics.pixel_count) << "), max "
+         << io::formatted("%.4g", r.metrics.max_error) << "</span></header>\n<div class=\"panels\">\n"
          << flip_figure(r) << error_map_figure(r)
-         << figure(r, "mask", "mask: white over " + format("%.4g", r.tolerances.sse.fail));
+         << figure(r, "mask", "mask: white over " + io::formatted("%.4g", r.tolerances.sse.fail));
     if (r.povray) {
         html << figure(r, "povray", "POV-Ray") << figure(r, "povray_error", "POV-Ray against the reference (8-bit)");
     }
@@ -243,7 +238,7 @@ std::string legend(const compare::HeatMapScale& scale) {
     html << "<div class=\"legend\"><div><span class=\"zero\"></span> 0: identical</div><div class=\"bar\"><img src=\""
          << legend_file << "\" alt=\"error map legend\"><div class=\"ticks\">";
     for (const compare::LegendTick& tick : compare::legend_ticks(scale)) {
-        html << "<span style=\"left:" << format("%.2f", 100.0 * tick.position) << "%\">"
+        html << "<span style=\"left:" << io::formatted("%.2f", 100.0 * tick.position) << "%\">"
              << (tick.position == 1 ? "&ge; " : "") << short_number(tick.error) << "</span>";
     }
     html << "</div></div><p>Error map: each pixel's largest channel difference, "
@@ -346,7 +341,7 @@ document.addEventListener('click', event => {
 }  // namespace
 
 std::string percent(long count, long total) {
-    return format("%.4f%%", 100.0 * static_cast<double>(count) / static_cast<double>(std::max(total, 1L)));
+    return io::formatted("%.4f%%", 100.0 * static_cast<double>(count) / static_cast<double>(std::max(total, 1L)));
 }
 
 std::string report_page(std::vector<SceneReport> reports, const compare::HeatMapScale& scale, bool with_povray,

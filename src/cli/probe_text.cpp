@@ -1,4 +1,5 @@
 #include "cli/probe_text.h"
+#include "io/formatted.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -10,23 +11,18 @@
 namespace twinray::cli::probe {
 namespace {
 
-std::string format(const char* pattern, double value) {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, pattern, value);
-    return buffer;
-}
-
 std::string format_vector(const Vec3d& v, const char* component = "%.7g") {
-    return "(" + format(component, v[0]) + ", " + format(component, v[1]) + ", " + format(component, v[2]) + ")";
+    return "(" + io::formatted(component, v[0]) + ", " + io::formatted(component, v[1]) + ", " +
+           io::formatted(component, v[2]) + ")";
 }
 
 std::string describe_light(const LightVisibility& light) {
-    std::string n_dot_l = "N.L " + format("%.4g", light.n_dot_l);
+    std::string n_dot_l = "N.L " + io::formatted("%.4g", light.n_dot_l);
     if (light.faces_away) {
         return "faces away (" + n_dot_l + ")";
     }
     std::string state = light.transmittance == 0 ? "blocked" : light.transmittance == 1 ? "visible" : "partly";
-    return state + ", " + format("%.6g", light.transmittance) + " (" + n_dot_l + ")";
+    return state + ", " + io::formatted("%.6g", light.transmittance) + " (" + n_dot_l + ")";
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -100,7 +96,7 @@ std::string row_text(const scene::Scene& scene, const RayNode& node, const std::
     if (!node.hit)
         return "";
     if (row == "t")
-        return format("%.9g", node.t);
+        return io::formatted("%.9g", node.t);
     if (row == "point")
         return format_vector(node.point);
     if (row == "normal")
@@ -131,7 +127,7 @@ std::string amount_text(const Divergence& d) {
                        : d.what == "direction" || d.what == "normal" ? " rad"
                        : d.what.find("colour") != std::string::npos  ? " in a channel"
                                                                      : "";
-    return format("%.3g", d.amount) + unit + " > " + format("%.3g", d.threshold);
+    return io::formatted("%.3g", d.amount) + unit + " > " + io::formatted("%.3g", d.threshold);
 }
 
 std::string pad(std::string text, std::size_t width) {

@@ -1,6 +1,7 @@
 #include "plugin/conformance.h"
 
 #include "accuracy/watertight.h"
+#include "io/formatted.h"
 #include "numerics/numerics.h"
 #include "reference/tracer.h"
 #include "scene/geometry.h"
@@ -15,12 +16,6 @@
 
 namespace twinray::plugin {
 namespace {
-
-std::string format(const char* pattern, auto... values) {
-    char text[512];
-    std::snprintf(text, sizeof text, pattern, values...);
-    return text;
-}
 
 double percentile(std::vector<double> values, double share) {
     if (values.empty()) {
@@ -112,13 +107,14 @@ CaseResult judge_primary_rays(const JudgedTracer& tracer, const scene::Scene& sc
     result.verdict = t_max > t_error_warn || disagreement_share > disagreement_warn ? Verdict::fail
                      : t_max > t_error_pass || disagreement_share > 0               ? Verdict::warn
                                                                                     : Verdict::pass;
-    result.detail = format(
+    result.detail = io::formatted(
         "%zu rays, %zu hits agreed; %zu hit/miss and %zu object disagreements%s; t error (u of |o|+t) p50 %.3g, "
         "p99 %.3g, max %.3g; normal error max %.3g rad",
         rays.size(), agreed, hit_disagreements, object_disagreements,
         first_disagreement < 0
             ? ""
-            : format(" (the first at pixel %ld, %ld)", first_disagreement % width, first_disagreement / width).c_str(),
+            : io::formatted(" (the first at pixel %ld, %ld)", first_disagreement % width, first_disagreement / width)
+                  .c_str(),
         percentile(t_errors, 0.5), percentile(t_errors, 0.99), t_max, worst_angle);
     return result;
 }
@@ -146,12 +142,12 @@ CaseResult judge_hand_solved(const JudgedTracer& tracer, const HandSolvedCase& h
     }
     const std::size_t rays = hand_solved.rays.size();
     if (differing == 0) {
-        const std::string as_solved = format("%zu ray%s as solved by hand", rays, rays == 1 ? "" : "s");
-        return {Verdict::pass, worst ? as_solved + format(", worst error %.3g of %.3g", *worst, tolerance)
+        const std::string as_solved = io::formatted("%zu ray%s as solved by hand", rays, rays == 1 ? "" : "s");
+        return {Verdict::pass, worst ? as_solved + io::formatted(", worst error %.3g of %.3g", *worst, tolerance)
                                      : as_solved + ", every one a miss"};
     }
     if (differing > 1) {
-        first_difference += format(" (and %zu more of the %zu rays)", differing - 1, rays);
+        first_difference += io::formatted(" (and %zu more of the %zu rays)", differing - 1, rays);
     }
     if (!hand_solved.own_rule.empty()) {
         return {Verdict::warn, first_difference + " (" + hand_solved.own_rule + ")"};
@@ -183,7 +179,7 @@ CaseResult judge_watertight(const JudgedTracer& tracer, const std::string& famil
     const double per_million = 1e6 / static_cast<double>(std::max<std::uint64_t>(total.rays, 1));
     CaseResult result;
     result.verdict = total.misses + total.double_hits == 0 ? Verdict::pass : Verdict::fail;
-    result.detail = format(
+    result.detail = io::formatted(
         "%llu rays at shared edges, vertices and faces, sizes 1e-4 to 1e4: %llu misses (%.0f per "
         "million), %llu double hits (%.0f per million)",
         static_cast<unsigned long long>(total.rays), static_cast<unsigned long long>(total.misses),
@@ -205,37 +201,34 @@ std::vector<ConformCase> conformance_cases(const std::vector<NamedScene>& scenes
                              return judge_primary_rays(tracer, named.scene, width, height);
                          }});
     }
-    for (double shift : {1e3, 1e5, 1e7}) {
-        for (const NamedScene& named : scenes) {
-            cases.push_back({"far from the origin", named.name + format(" moved %g away", shift),
-                             [&named, width, height, shift](const JudgedTracer& tracer) {
-                                 return judge_primary_rays(tracer, numerics::transformed(named.scene, 1, shift), width,
-                                                           height);
-                             }});
-        }
-    }
-    // The extremes of scale the tests hold the SSE tracer to (tests/extremes_scale_test.cpp): a scene far smaller
-    // and far larger than its numbers' unit, and one seen from so far that its rays travel t ≫ |p| to it.
-    struct Extreme {
-        const char* name;
-        double scale, camera_distance;
+    // Each scene moved (numerics::transformed, camera and lights with it) and judged as primary rays: far from the
+    // origin, then at the extremes of scale the tests hold the SSE tracer to (tests/extremes_scale_test.cpp) — far
+    // smaller and far larger than its numbers' unit, and seen from so far that its rays travel t ≫ |p| to it.
+    struct Moved {
+        const char* suite;
+        std::string how;
+        double scale, shift, camera_distance;
     };
-    for (const Extreme extreme :
-         {Extreme{"scaled by 1e-4", 1e-4, 1}, Extreme{"scaled by 1e6", 1e6, 1},
-          Extreme{"seen from 100 times as far", 1, 1e2}, Extreme{"seen from 10 000 times as far", 1, 1e4}}) {
+    const Moved moves[] = {{"far from the origin", "moved 1000 away", 1, 1e3, 1},
+                           {"far from the origin", "moved 100000 away", 1, 1e5, 1},
+                           {"far from the origin", "moved 1e+07 away", 1, 1e7, 1},
+                           {"extremes", "scaled by 1e-4", 1e-4, 0, 1},
+                           {"extremes", "scaled by 1e6", 1e6, 0, 1},
+                           {"extremes", "seen from 100 times as far", 1, 0, 1e2},
+                           {"extremes", "seen from 10 000 times as far", 1, 0, 1e4}};
+    for (const Moved& move : moves) {
         for (const NamedScene& named : scenes) {
-            cases.push_back({"extremes", named.name + " " + extreme.name,
-                             [&named, width, height, extreme](const JudgedTracer& tracer) {
-                                 return judge_primary_rays(
-                                     tracer,
-                                     numerics::transformed(named.scene, extreme.scale, 0, extreme.camera_distance),
-                                     width, height);
-                             }});
+            cases.push_back(
+                {move.suite, named.name + " " + move.how, [&named, width, height, move](const JudgedTracer& tracer) {
+                     return judge_primary_rays(
+                         tracer, numerics::transformed(named.scene, move.scale, move.shift, move.camera_distance),
+                         width, height);
+                 }});
         }
     }
     for (const std::string& family : accuracy::watertight_families()) {
         for (double distance : accuracy::watertight_distances()) {
-            cases.push_back({"watertight", family + format(" at %g", distance),
+            cases.push_back({"watertight", family + io::formatted(" at %g", distance),
                              [family, distance, watertight_rays_per_size](const JudgedTracer& tracer) {
                                  return judge_watertight(tracer, family, distance, watertight_rays_per_size);
                              }});

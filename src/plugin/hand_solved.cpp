@@ -1,5 +1,6 @@
 #include "plugin/hand_solved.h"
 
+#include "io/formatted.h"
 #include "plugin/hand_solved_cases.h"
 #include "scene/scene_builder.h"
 
@@ -11,14 +12,8 @@
 namespace twinray::plugin {
 namespace {
 
-std::string format(const char* pattern, auto... values) {
-    char text[256];
-    std::snprintf(text, sizeof text, pattern, values...);
-    return text;
-}
-
 std::string vector_text(const scene::Vec3& v) {
-    return format("(%.9g, %.9g, %.9g)", v.x, v.y, v.z);
+    return io::formatted("(%.9g, %.9g, %.9g)", v.x, v.y, v.z);
 }
 
 // Written so that a NaN is never within the tolerance.
@@ -38,18 +33,19 @@ HandSolvedRay miss(V origin, V direction) {
     return {origin, direction, std::nullopt};
 }
 
-scene::Scene after_a_decoy(scene::Object object) {
+// A builder holding only the far-away decoy sphere no ray comes near, so that what is added next is leaf 1.
+scene::builder::SceneBuilder with_a_decoy() {
     scene::builder::SceneBuilder builder;
     builder.object(scene::builder::sphere({-1000, 1000, 1000}, 1));
-    builder.object(std::move(object));
-    return builder.build();
+    return builder;
+}
+
+scene::Scene after_a_decoy(scene::Object object) {
+    return with_a_decoy().object(std::move(object)).build();
 }
 
 scene::Scene after_a_decoy(scene::Mesh mesh) {
-    scene::builder::SceneBuilder builder;
-    builder.object(scene::builder::sphere({-1000, 1000, 1000}, 1));
-    builder.add(std::move(mesh));
-    return builder.build();
+    return with_a_decoy().add(std::move(mesh)).build();
 }
 
 }  // namespace hand_solved
@@ -71,9 +67,10 @@ RayCheck check_first_hit(const HandSolvedRay& ray, const std::optional<FirstHit>
     const std::optional<FirstHit>& expected = ray.expected;
     if (!expected || !found) {
         if (found) {
-            check.differences.push_back(format("a hit at t = %.9g, leaf %d, expected a miss", found->t, found->leaf));
+            check.differences.push_back(
+                io::formatted("a hit at t = %.9g, leaf %d, expected a miss", found->t, found->leaf));
         } else if (expected) {
-            check.differences.push_back(format("a miss, expected a hit at t = %.9g", expected->t));
+            check.differences.push_back(io::formatted("a miss, expected a hit at t = %.9g", expected->t));
         }
         return check;
     }
@@ -81,32 +78,33 @@ RayCheck check_first_hit(const HandSolvedRay& ray, const std::optional<FirstHit>
     const double point_error = math::max_abs_component(found->point - expected->point);
     const double normal_error = math::max_abs_component(found->normal - expected->normal);
     const double length_error = std::fabs(math::length(found->normal) - 1);
-    const std::string beyond = format(" > %.3g", tolerance);
+    const std::string beyond = io::formatted(" > %.3g", tolerance);
     if (!within(t_error, tolerance)) {
         check.differences.push_back(
-            format("t %.9g expected %.9g, error %.3g", found->t, expected->t, t_error).append(beyond));
+            io::formatted("t %.9g expected %.9g, error %.3g", found->t, expected->t, t_error).append(beyond));
     }
     if (!within(point_error, tolerance)) {
         check.differences.push_back("point " + vector_text(found->point) + " expected " + vector_text(expected->point) +
-                                    format(", error %.3g", point_error) + beyond);
+                                    io::formatted(", error %.3g", point_error) + beyond);
     }
     if (!within(normal_error, tolerance)) {
         check.differences.push_back("normal " + vector_text(found->normal) + " expected " +
-                                    vector_text(expected->normal) + format(", error %.3g", normal_error) + beyond);
+                                    vector_text(expected->normal) + io::formatted(", error %.3g", normal_error) +
+                                    beyond);
     }
     if (!within(length_error, tolerance)) {
-        check.differences.push_back(format("|normal| %.9g, error %.3g", math::length(found->normal), length_error) +
-                                    beyond);
+        check.differences.push_back(
+            io::formatted("|normal| %.9g, error %.3g", math::length(found->normal), length_error) + beyond);
     }
     const double facing = math::dot(found->normal, math::normalize(ray.direction));
     if (!(facing <= 0)) {
-        check.differences.push_back(format("the normal faces away from the ray (cosine %.3g)", facing));
+        check.differences.push_back(io::formatted("the normal faces away from the ray (cosine %.3g)", facing));
     }
     if (found->leaf != expected->leaf) {
-        check.differences.push_back(format("leaf %d, expected %d", found->leaf, expected->leaf));
+        check.differences.push_back(io::formatted("leaf %d, expected %d", found->leaf, expected->leaf));
     }
     if (found->triangle != expected->triangle) {
-        check.differences.push_back(format("triangle %d, expected %d", found->triangle, expected->triangle));
+        check.differences.push_back(io::formatted("triangle %d, expected %d", found->triangle, expected->triangle));
     }
     if (found->entering != expected->entering) {
         check.differences.push_back(expected->entering ? "leaving, expected entering" : "entering, expected leaving");
