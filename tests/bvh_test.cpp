@@ -657,7 +657,8 @@ TEST_F(Bvh, TreeHoldsEveryItemOnceAndStaysWithinItsDepth) {
 TEST_F(Bvh, LeafBoxesHoldTheirItemsPaddedBoundsAtEveryScale) {
     SplitMix64 random(13);
     auto uniform = [&](double low, double high) { return random.uniform(low, high); };
-    std::vector<twinray::sse::BvhInput> inputs;
+    std::vector<twinray::scene::Bounds> inputs;
+    twinray::LargeArray<twinray::sse::BvhInput> items;
     for (std::uint32_t i = 0; i < 20000; ++i) {
         double scale = std::pow(10.0, uniform(-300.0, 30.0));
         twinray::scene::Vec3 a, b;
@@ -666,15 +667,16 @@ TEST_F(Bvh, LeafBoxesHoldTheirItemsPaddedBoundsAtEveryScale) {
             double extent = i % 4 == 0 ? 0.0 : uniform(0.0, 1.0) * scale * std::pow(10.0, uniform(-20.0, 0.0));
             b[axis] = i % 7 == 0 ? -a[axis] : a[axis] + extent;
         }
-        inputs.push_back({twinray::scene::around(a, b, 0.0), {0, i}});
+        inputs.push_back(twinray::scene::around(a, b, 0.0));
+        items.emplace_back(inputs.back(), twinray::sse::BvhItem{0, i});
     }
-    twinray::sse::Bvh bvh = twinray::sse::build_bvh(inputs);
+    twinray::sse::Bvh bvh = twinray::sse::build_bvh(std::move(items));
     std::size_t checked = 0, outside = 0;
     double worst = 0;  // the farthest a padded bound lies outside its leaf's box, in units of its pad
     walk(bvh, [&](const twinray::sse::BvhNode& node, int) {
         for (int c = 0; c < 4 && node.count[c] != twinray::sse::BvhNode::empty_child; ++c) {
             for (std::uint32_t i = node.first[c]; node.count[c] > 0 && i < node.first[c] + node.count[c]; ++i) {
-                const twinray::scene::Bounds& bounds = inputs.at(bvh.items[i].index).bounds;
+                const twinray::scene::Bounds& bounds = inputs.at(bvh.items[i].index);
                 double largest = 0;
                 for (int axis = 0; axis < 3; ++axis) {
                     largest = std::max({largest, std::fabs(bounds.low[axis]), std::fabs(bounds.high[axis])});

@@ -111,41 +111,15 @@ struct BinaryTree {
     LargeArray<BvhItem> items;     // leaves' items, in leaf order
 };
 
-// One item as the build moves it: its padded float box, and its place in the input. 32 bytes, so that
-// partitioning moves whole cache-line halves.
-struct alignas(16) Reference {
-    float low[3];
-    std::uint32_t input;
-    float high[3];
-    float unused;
-
-    __m128 low4() const { return _mm_load_ps(low); }
-    __m128 high4() const { return _mm_load_ps(high); }
-    // Twice the centroid: the factor ½ is folded into the bins' scale.
-    __m128 centroid2() const { return _mm_add_ps(low4(), high4()); }
-};
-
-// The item's box padded (as scene::around with bvh_padding times its largest |coordinate|) and rounded
-// outward, in SSE2 doubles: the same IEEE operations as the scalar formula, a pair at a time.
-Reference reference_of(const BvhInput& input, std::uint32_t index) {
-    const scene::Bounds& bounds = input.bounds;
-    __m128d a_xy = _mm_loadu_pd(&bounds.low[0]), a_z = _mm_load_sd(&bounds.low[2]);
-    __m128d b_xy = _mm_loadu_pd(&bounds.high[0]), b_z = _mm_load_sd(&bounds.high[2]);
-    __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(std::numeric_limits<std::int64_t>::max()));
-    __m128d largest = _mm_max_pd(_mm_max_pd(_mm_and_pd(a_xy, magnitude), _mm_and_pd(b_xy, magnitude)),
-                                 _mm_max_sd(_mm_and_pd(a_z, magnitude), _mm_and_pd(b_z, magnitude)));
-    largest = _mm_max_sd(largest, _mm_unpackhi_pd(largest, largest));
-    __m128d pad = _mm_add_sd(_mm_mul_sd(_mm_set_sd(bvh_padding), largest), _mm_set_sd(1e-30));
-    pad = _mm_unpacklo_pd(pad, pad);
-    // std::min(a, b) is b only where b < a, as minpd(b, a); std::max(a, b) likewise maxpd(b, a).
-    __m128 low = rounded_outward(_mm_sub_pd(_mm_min_pd(b_xy, a_xy), pad), _mm_sub_pd(_mm_min_pd(b_z, a_z), pad), false);
-    __m128 high = rounded_outward(_mm_add_pd(_mm_max_pd(b_xy, a_xy), pad), _mm_add_pd(_mm_max_pd(b_z, a_z), pad), true);
-    Reference out;
-    _mm_store_ps(out.low, low);
-    _mm_store_ps(out.high, high);
-    out.input = index;
-    out.unused = 0;
-    return out;
+__m128 low4(const BvhInput& input) {
+    return _mm_load_ps(input.low);
+}
+__m128 high4(const BvhInput& input) {
+    return _mm_load_ps(input.high);
+}
+// Twice the centroid: the factor ½ is folded into the bins' scale.
+__m128 centroid2(const BvhInput& input) {
+    return _mm_add_ps(low4(input), high4(input));
 }
 
 // An item's bin on x, y and z, one byte each (bin_count fits).
@@ -203,23 +177,18 @@ struct Range {
 
 class Builder {
 public:
-    // The inputs are released once their boxes are references and their items kept apart (8 bytes, not 56): at a
-    // million items that is 48 MB less at the build's peak, when the binary tree is largest.
-    explicit Builder(std::vector<BvhInput> inputs) : bins_(inputs.size()) {
-        references_.reserve(inputs.size());
-        items_.reserve(inputs.size());
-        for (std::size_t i = 0; i < inputs.size(); ++i) {
-            references_.push_back(reference_of(inputs[i], static_cast<std::uint32_t>(i)));
-            items_.push_back(inputs[i].item);
+    explicit Builder(LargeArray<BvhInput>&& inputs) : references_(std::move(inputs)), bins_(references_.size()) {
+        for (std::size_t i = 0; i < references_.size(); ++i) {
+            references_[i].place = static_cast<std::uint32_t>(i);
         }
     }
 
     BinaryTree run() {
         BinaryTree bvh;
-        if (items_.empty()) {
+        if (references_.empty()) {
             return bvh;
         }
-        bvh.nodes.reserve(2 * items_.size());
+        bvh.nodes.reserve(2 * references_.size());
         bvh.nodes.resize(1);
         // Depth first, left child first, on an explicit stack: no recursion a degenerate scene could overflow.
         struct Task {
@@ -228,9 +197,9 @@ public:
             Range range;
         };
         Range root{0, static_cast<std::uint32_t>(references_.size()), {}, {}};
-        for (const Reference& reference : references_) {
-            root.box.grow(reference.low4(), reference.high4());
-            root.centroids.grow(reference.centroid2());
+        for (const BvhInput& reference : references_) {
+            root.box.grow(low4(reference), high4(reference));
+            root.centroids.grow(centroid2(reference));
         }
         std::vector<Task> tasks{{0, 0, root}};
         while (!tasks.empty()) {
@@ -262,8 +231,8 @@ public:
         // All at the end, in one tight loop: the items are scattered in memory, and loads issued back to back
         // overlap their cache misses where one per leaf, between splits, waited alone.
         bvh.items.reserve(references_.size());
-        for (const Reference& reference : references_) {
-            bvh.items.push_back(items_[reference.input]);
+        for (const BvhInput& reference : references_) {
+            bvh.items.push_back(reference.item());
         }
         return bvh;
     }
@@ -300,15 +269,15 @@ private:
         // Every item's bins first, then the boxes, a block at a time (the block's items stay in L1): with the
         // bins known ahead, loading a bin's box need not guess whether an item just before stored to it, a
         // guess that made binning 3x slower where it went wrong. The bins stay for partition.
-        const Reference* references = references_.data();
+        const BvhInput* references = references_.data();
         ItemBins* item_bins = bins_.data();
         for (std::uint32_t block = range.begin; block < range.end; block += block_items) {
             std::uint32_t block_end = std::min(range.end, block + block_items);
             for (std::uint32_t i = block; i < block_end; ++i) {
-                item_bins[i] = binning_.bins_of(references[i].centroid2());
+                item_bins[i] = binning_.bins_of(centroid2(references[i]));
             }
             for (std::uint32_t i = block; i < block_end; ++i) {
-                __m128 low = references[i].low4(), high = references[i].high4();
+                __m128 low = low4(references[i]), high = high4(references[i]);
                 ItemBins item = item_bins[i];
                 for (int axis = 0; axis < 3; ++axis) {
                     bin_boxes_[axis][item.axis[axis]].grow(low, high);
@@ -381,15 +350,15 @@ private:
         Range left{range.begin, range.begin, {}, {}}, right{range.end, range.end, {}, {}};
         std::uint32_t i = range.begin, j = range.end;
         while (i < j) {
-            const Reference& reference = references_[i];
-            __m128 centroid2 = reference.centroid2();
+            const BvhInput& reference = references_[i];
+            __m128 twice_centroid = centroid2(reference);
             if (bins_[i].axis[split.axis] < split.bin) {
-                left.box.grow(reference.low4(), reference.high4());
-                left.centroids.grow(centroid2);
+                left.box.grow(low4(reference), high4(reference));
+                left.centroids.grow(twice_centroid);
                 ++i;
             } else {
-                right.box.grow(reference.low4(), reference.high4());
-                right.centroids.grow(centroid2);
+                right.box.grow(low4(reference), high4(reference));
+                right.centroids.grow(twice_centroid);
                 std::swap(references_[i], references_[--j]);
                 std::swap(bins_[i], bins_[j]);
             }
@@ -403,23 +372,22 @@ private:
     std::pair<Range, Range> halve(const Range& range, int axis) {
         auto first = references_.begin() + range.begin;
         auto last = references_.begin() + range.end;
-        std::sort(first, last, [axis](const Reference& a, const Reference& b) {
+        std::sort(first, last, [axis](const BvhInput& a, const BvhInput& b) {
             float ca = a.low[axis] + a.high[axis], cb = b.low[axis] + b.high[axis];
-            return ca < cb || (ca == cb && a.input < b.input);
+            return ca < cb || (ca == cb && a.place < b.place);
         });
         std::uint32_t middle = range.begin + (range.end - range.begin) / 2;
         Range halves[2] = {{range.begin, middle, {}, {}}, {middle, range.end, {}, {}}};
         for (Range& half : halves) {
             for (std::uint32_t i = half.begin; i < half.end; ++i) {
-                half.box.grow(references_[i].low4(), references_[i].high4());
-                half.centroids.grow(references_[i].centroid2());
+                half.box.grow(low4(references_[i]), high4(references_[i]));
+                half.centroids.grow(centroid2(references_[i]));
             }
         }
         return {halves[0], halves[1]};
     }
 
-    LargeArray<BvhItem> items_;  // in input order
-    LargeArray<Reference> references_;
+    LargeArray<BvhInput> references_;
     // Each item's bins in the node being split, kept in step with references_ by partition.
     LargeArray<ItemBins> bins_;
     Binning binning_{Box4{}, bin_count};
@@ -512,8 +480,33 @@ Bvh collapse(BinaryTree&& binary) {
 
 }  // namespace
 
-Bvh build_bvh(std::vector<BvhInput> inputs) {
-    return collapse(Builder(std::move(inputs)).run());
+// The item's box padded (as scene::around with bvh_padding times its largest |coordinate|) and rounded
+// outward, in SSE2 doubles: the same IEEE operations as the scalar formula, a pair at a time.
+BvhInput::BvhInput(const scene::Bounds& bounds, BvhItem item) {
+    __m128d a_xy = _mm_loadu_pd(&bounds.low[0]), a_z = _mm_load_sd(&bounds.low[2]);
+    __m128d b_xy = _mm_loadu_pd(&bounds.high[0]), b_z = _mm_load_sd(&bounds.high[2]);
+    __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(std::numeric_limits<std::int64_t>::max()));
+    __m128d largest = _mm_max_pd(_mm_max_pd(_mm_and_pd(a_xy, magnitude), _mm_and_pd(b_xy, magnitude)),
+                                 _mm_max_sd(_mm_and_pd(a_z, magnitude), _mm_and_pd(b_z, magnitude)));
+    largest = _mm_max_sd(largest, _mm_unpackhi_pd(largest, largest));
+    __m128d pad = _mm_add_sd(_mm_mul_sd(_mm_set_sd(bvh_padding), largest), _mm_set_sd(1e-30));
+    pad = _mm_unpacklo_pd(pad, pad);
+    // std::min(a, b) is b only where b < a, as minpd(b, a); std::max(a, b) likewise maxpd(b, a).
+    __m128 low_bound =
+        rounded_outward(_mm_sub_pd(_mm_min_pd(b_xy, a_xy), pad), _mm_sub_pd(_mm_min_pd(b_z, a_z), pad), false);
+    __m128 high_bound =
+        rounded_outward(_mm_add_pd(_mm_max_pd(b_xy, a_xy), pad), _mm_add_pd(_mm_max_pd(b_z, a_z), pad), true);
+    // Each store's fourth lane lands on the word after the box; those words are set after.
+    _mm_store_ps(this->low, low_bound);
+    _mm_store_ps(this->high, high_bound);
+    place = 0;
+    packed_item = item.list << index_bits | item.index;
+}
+
+Bvh build_bvh(LargeArray<BvhInput> inputs) {
+    // Two statements: the builder, and the inputs it sorted, are gone before the tree is collapsed.
+    BinaryTree binary = Builder(std::move(inputs)).run();
+    return collapse(std::move(binary));
 }
 
 std::size_t bvh_bytes(const Bvh& bvh) {

@@ -105,7 +105,7 @@ public:
                 std::count_if(scene_.objects.begin(), scene_.objects.end(),
                               [](const scene::Object& object) { return std::holds_alternative<S>(object.shape); })));
         });
-        std::vector<BvhInput> bounded;
+        LargeArray<BvhInput> bounded;
         std::size_t mesh_items = 0;  // instances and triangles
         for (const scene::Mesh& mesh : scene_.meshes) {
             mesh_items += mesh.placement ? 1 : mesh.data->triangles.size();
@@ -182,7 +182,7 @@ public:
 
 private:
     // The BVH over `bounded`; the rest in the flat lists every ray tests, in their compiled order.
-    static void add_bvh(CompiledScene& out, std::vector<BvhInput> bounded, const std::vector<BvhItem>& unbounded,
+    static void add_bvh(CompiledScene& out, LargeArray<BvhInput> bounded, const std::vector<BvhItem>& unbounded,
                         bool keep_triangle_file_order) {
         const double cpu_start = process_cpu_seconds();
         out.bvh = build_bvh(std::move(bounded));
@@ -278,7 +278,7 @@ private:
     // Its triangles to the triangle list (and their corners, where some mesh is smooth) and, bounded, to the
     // BVH's inputs; its leaf to the mesh's surface.
     static void add_mesh(CompiledScene& out, const scene::Mesh& mesh, bool with_corners,
-                         std::vector<BvhInput>& bounded) {
+                         LargeArray<BvhInput>& bounded) {
         const scene::MeshData& data = *mesh.data;
         out.leaves[static_cast<std::size_t>(mesh.leaf)] = {MeshSurface{static_cast<std::uint32_t>(out.meshes.size())},
                                                            mesh.material};
@@ -328,7 +328,7 @@ private:
                 shape.mesh.normals.push_back(Vec3(normal));
             }
         }
-        std::vector<BvhInput> inputs;
+        LargeArray<BvhInput> inputs;
         TriangleList in_file_order;
         scene::for_each_live_triangle(data, [&](std::uint32_t i) {
             inputs.push_back({scene::bounds(data, data.triangles[i]),

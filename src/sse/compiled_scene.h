@@ -109,6 +109,9 @@ constexpr std::uint32_t csg_list = scene::PrimitiveTypes::size;
 constexpr std::uint32_t triangle_list = csg_list + 1;
 // BvhItem::list of an instance of a mesh shape (an index into CompiledScene::instances).
 constexpr std::uint32_t instance_list = triangle_list + 1;
+static_assert(instance_list < BvhInput::list_count && scene::max_scene_primitives <= std::size_t{1}
+                                                                                         << BvhInput::index_bits,
+              "every BvhItem packs into a BvhInput");
 
 // Every mesh's triangles that can be hit (degenerate ones are left out): without a BVH mesh after mesh in file
 // order and each mesh's in its own order; with one, in the order of its leaves (CompiledScene::primitives').

@@ -7,11 +7,10 @@
 
 namespace twinray::sse {
 
-// Parameters stored already broadcast to four lanes: a load per parameter instead of a load and a
-// shuffle in the innermost loop (64 bytes a sphere, which a handful of spheres can afford).
-struct SphereShape {
-    Vec3x4 center;
-    vfloat4 radius_squared;
+// The centre and r² in one 16-byte load, spread to four lanes by a shuffle each in the kernel: a BVH leaf's
+// four spheres are one cache line (stored broadcast, as the other kinds are, they were four).
+struct alignas(16) SphereShape {
+    float center_and_radius_squared[4];
 };
 
 // What one hit needs: its normal and re-projection.
@@ -22,7 +21,8 @@ struct SphereSurface {
 
 inline SphereShape make_shape(const scene::Sphere& sphere) {
     float radius = static_cast<float>(sphere.radius);
-    return {broadcast(Vec3(sphere.center)), vfloat4(radius * radius)};
+    const Vec3 center(sphere.center);
+    return {{center.x, center.y, center.z, radius * radius}};
 }
 
 inline SphereSurface make_surface(const scene::Sphere& sphere) {
@@ -37,9 +37,13 @@ inline SphereSurface make_surface(const scene::Sphere& sphere) {
 // nearer root.
 template <typename P>
 TWINRAY_KERNEL Span4 span_of(const SphereShape& sphere, const RayPacket& rays) {
-    Vec3x4 f = rays.origin - sphere.center;
+    const __m128 packed = _mm_load_ps(sphere.center_and_radius_squared);
+    const Vec3x4 center{vfloat4(_mm_shuffle_ps(packed, packed, _MM_SHUFFLE(0, 0, 0, 0))),
+                        vfloat4(_mm_shuffle_ps(packed, packed, _MM_SHUFFLE(1, 1, 1, 1))),
+                        vfloat4(_mm_shuffle_ps(packed, packed, _MM_SHUFFLE(2, 2, 2, 2)))};
+    Vec3x4 f = rays.origin - center;
     vfloat4 b = dot<P>(f, rays.direction);
-    vfloat4 r2 = sphere.radius_squared;
+    vfloat4 r2(_mm_shuffle_ps(packed, packed, _MM_SHUFFLE(3, 3, 3, 3)));
     vfloat4 discriminant;
     if constexpr (P::textbook_quadratic) {
         discriminant = b * b - (dot<P>(f, f) - r2);
