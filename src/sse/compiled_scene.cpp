@@ -32,9 +32,6 @@ BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::i
                 list.items.push_back(make_shape(shape));
                 list.ids.push_back(id);
                 list.transmission.push_back(transmission);
-                scene::BoundingSphere bound = scene::bounding_sphere(shape);
-                list.bound_centers.push_back(bound.center);
-                list.bound_radii.push_back(bound.radius);
                 leaves[static_cast<std::size_t>(object.leaf)] = {make_surface(shape), object.material};
             }
         },
@@ -105,43 +102,6 @@ public:
                 std::count_if(scene_.objects.begin(), scene_.objects.end(),
                               [](const scene::Object& object) { return std::holds_alternative<S>(object.shape); })));
         });
-        LargeArray<BvhInput> bounded;
-        std::size_t mesh_items = 0;  // instances and triangles
-        for (const scene::Mesh& mesh : scene_.meshes) {
-            mesh_items += mesh.placement ? 1 : mesh.data->triangles.size();
-        }
-        bounded.reserve(scene_.objects.size() + mesh_items);
-        std::vector<BvhItem> unbounded;
-        // What the choice of a BVH weighs: what brute force would spend on the bounded objects, in sphere tests.
-        double bounded_cost = 0;
-        for (const scene::Object& object : scene_.objects) {
-            BvhItem item;
-            scene::Bounds bounds;
-            double cost = brute_force_cost(object);
-            if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
-                CsgObject compiled;
-                add_csg_node(compiled, *csg, out);
-                compiled.leaves.drop_culling_bounds();  // the object is culled by its bound
-                scene::Box bound = as_float_safe_box(scene::bounds(object));
-                compiled.bound = make_shape(bound);
-                item = {csg_list, static_cast<std::uint32_t>(out.csg_objects.size())};
-                bounds = {bound.min, bound.max};
-                cost += csg_object_cost;
-                out.csg_objects.push_back(std::move(compiled));
-            } else {
-                item = add_primitive(out.primitives, object, object.leaf, transmission_of(object), out.leaves);
-                bounds = scene::bounds(object);
-            }
-            if (is_finite(bounds)) {
-                bounded.push_back({bounds, item});
-                bounded_cost += cost;
-            } else {
-                unbounded.push_back(item);
-            }
-        }
-        const bool any_smooth = std::any_of(scene_.meshes.begin(), scene_.meshes.end(), [](const scene::Mesh& mesh) {
-            return !mesh.placement && mesh.data->smooth;
-        });
         std::vector<double> shape_costs;
         std::vector<scene::Bounds> shape_bounds;
         for (const scene::MeshShape& shape : scene_.mesh_shapes) {
@@ -149,6 +109,39 @@ public:
             shape_costs.push_back(shape_cost(out.shapes.back()));
             shape_bounds.push_back(scene::vertex_bounds(*shape.data));
         }
+        const bool with_bvh = accel_ == Accel::bvh || (accel_ == Accel::automatic &&
+                                                       bounded_cost(shape_costs) > static_cast<double>(bvh_crossover));
+        LargeArray<BvhInput> bounded;
+        std::size_t mesh_items = 0;  // instances and triangles
+        for (const scene::Mesh& mesh : scene_.meshes) {
+            mesh_items += mesh.placement ? 1 : mesh.data->triangles.size();
+        }
+        bounded.reserve(scene_.objects.size() + mesh_items);
+        std::vector<BvhItem> unbounded;
+        for (const scene::Object& object : scene_.objects) {
+            BvhItem item;
+            scene::Bounds bounds;
+            if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
+                CsgObject compiled;
+                add_csg_node(compiled, *csg, out);
+                scene::Box bound = as_float_safe_box(scene::bounds(object));
+                compiled.bound = make_shape(bound);
+                item = {csg_list, static_cast<std::uint32_t>(out.csg_objects.size())};
+                bounds = {bound.min, bound.max};
+                out.csg_objects.push_back(std::move(compiled));
+            } else {
+                item = add_primitive(out.primitives, object, object.leaf, transmission_of(object), out.leaves);
+                bounds = scene::bounds(object);
+            }
+            if (is_finite(bounds)) {
+                bounded.emplace_back(bounds, item);
+            } else {
+                unbounded.push_back(item);
+            }
+        }
+        const bool any_smooth = std::any_of(scene_.meshes.begin(), scene_.meshes.end(), [](const scene::Mesh& mesh) {
+            return !mesh.placement && mesh.data->smooth;
+        });
         std::uint32_t instance_index = 0;
         for (const scene::Mesh& mesh : scene_.meshes) {
             if (!mesh.placement) {
@@ -156,14 +149,13 @@ public:
                 continue;
             }
             const auto shape = static_cast<std::size_t>(mesh.placement->shape);
-            bounded.push_back({scene::placed_bounds(shape_bounds[shape], mesh.placement->transform()),
-                               {instance_list, instance_index++}});
-            bounded_cost += transformed_trip_cost + shape_costs[shape];
+            bounded.emplace_back(scene::placed_bounds(shape_bounds[shape], mesh.placement->transform()),
+                                 BvhItem{instance_list, instance_index++});
         }
-        bounded_cost += triangle_test_cost * static_cast<double>(out.triangles.items.size());
-        if (accel_ == Accel::bvh || (accel_ == Accel::automatic && bounded_cost > static_cast<double>(bvh_crossover))) {
+        if (with_bvh) {
             add_bvh(out, std::move(bounded), unbounded, scene_.has_transparency());
         }
+        add_culling_bounds(with_bvh ? out.unbounded : out.primitives, with_bvh);
         // After the build, which keeps their order: its arrays and a million records (116 MB) are never held at once.
         add_instances(out, instance_leaves.size());
         for (const scene::Light& light : scene_.lights) {
@@ -202,7 +194,48 @@ private:
             }
         }
         put_in_leaf_order(out, unbounded, keep_triangle_file_order);
-        out.primitives.drop_culling_bounds();
+    }
+
+    // What the choice of a BVH weighs: what brute force would spend on the bounded items, in sphere tests.
+    double bounded_cost(const std::vector<double>& shape_costs) const {
+        double cost = 0;
+        for (const scene::Object& object : scene_.objects) {
+            if (is_finite(scene::bounds(object))) {
+                cost +=
+                    brute_force_cost(object) + (std::holds_alternative<scene::Csg>(object.shape) ? csg_object_cost : 0);
+            }
+        }
+        std::size_t triangles = 0;
+        for (const scene::Mesh& mesh : scene_.meshes) {
+            if (mesh.placement) {
+                cost += transformed_trip_cost + shape_costs[static_cast<std::size_t>(mesh.placement->shape)];
+            } else {
+                triangles += mesh.data->triangles.size() - mesh.data->degenerate.size();
+            }
+        }
+        return cost + triangle_test_cost * static_cast<double>(triangles);
+    }
+
+    // The bounding spheres tile culling reads, for the lists every ray tests (CompiledScene::flat: every
+    // primitive's, in file order, or with a BVH the unbounded ones'): made last, so that they are never held beside
+    // a BVH's build for the primitives it takes (32 bytes each).
+    void add_culling_bounds(PrimitiveLists& flat, bool only_unbounded) const {
+        for (const scene::Object& object : scene_.objects) {
+            std::visit(
+                [&](const auto& shape) {
+                    using S = std::decay_t<decltype(shape)>;
+                    if constexpr (scene::is_primitive<S>) {
+                        if (only_unbounded && is_finite(scene::bounds(object))) {
+                            return;
+                        }
+                        PrimitiveListOf<S>& list = flat.of<S>();
+                        const scene::BoundingSphere bound = scene::bounding_sphere(shape);
+                        list.bound_centers.push_back(bound.center);
+                        list.bound_radii.push_back(bound.radius);
+                    }
+                },
+                object.shape);
+        }
     }
 
     // Moves the primitives and the triangles into the order of the BVH's leaves (the unbounded primitives

@@ -37,12 +37,11 @@ using SurfaceOf = decltype(make_surface(std::declval<const S&>()));
 // Primitives of one type. `ids` are global leaf indices at top level and slots within a CSG object;
 // `transmission` is that of each primitive's material, for shadow rays.
 // `bound_centers`/`bound_radii` are a sphere around each primitive (radius +∞ for planes), for
-// culling whole tiles of primary rays: only lists every ray tests keep them (32 bytes a primitive); lists
-// found through the BVH and CSG objects' leaves drop them (drop_culling_bounds).
+// culling whole tiles of primary rays: only the lists every ray tests have them (CompiledScene::flat, 32 bytes a
+// primitive), made once the rest is compiled; lists found through the BVH and CSG objects' leaves never do.
 template <typename Shape>
 struct PrimitiveList {
     using shape_type = Shape;
-
     LargeArray<Shape> items;
     LargeArray<std::int32_t> ids;
     LargeArray<float> transmission;
@@ -53,37 +52,21 @@ struct PrimitiveList {
         items.clear();
         ids.clear();
         transmission.clear();
-        bound_centers.clear();
-        bound_radii.clear();
     }
     void reserve(std::size_t count) {
         items.reserve(count);
         ids.reserve(count);
         transmission.reserve(count);
-        bound_centers.reserve(count);
-        bound_radii.reserve(count);
     }
     void swap(std::size_t i, std::size_t j) {
         std::swap(items[i], items[j]);
         std::swap(ids[i], ids[j]);
         std::swap(transmission[i], transmission[j]);
-        if (!bound_centers.empty()) {
-            std::swap(bound_centers[i], bound_centers[j]);
-            std::swap(bound_radii[i], bound_radii[j]);
-        }
     }
     void push_back_from(const PrimitiveList& other, std::size_t i) {
         items.push_back(other.items[i]);
         ids.push_back(other.ids[i]);
         transmission.push_back(other.transmission[i]);
-        if (!other.bound_centers.empty()) {
-            bound_centers.push_back(other.bound_centers[i]);
-            bound_radii.push_back(other.bound_radii[i]);
-        }
-    }
-    void drop_culling_bounds() {
-        bound_centers = {};
-        bound_radii = {};
     }
 };
 
@@ -169,9 +152,6 @@ struct PrimitiveLists {
     template <typename Visit>
     void for_each(Visit&& visit) const {
         std::apply([&](const auto&... list) { (visit(list), ...); }, of_type);
-    }
-    void drop_culling_bounds() {
-        std::apply([](auto&... list) { (list.drop_culling_bounds(), ...); }, of_type);
     }
     // visit(mine, theirs) for each type's two lists.
     template <typename Visit>
