@@ -177,6 +177,23 @@ using Vec3x4 = math::Vec3<vfloat4>;
 inline Vec3x4 broadcast(const math::Vec3<float>& v) {
     return {vfloat4(v.x), vfloat4(v.y), vfloat4(v.z)};
 }
+
+// Four parameters of a primitive's record, each stored once: a kernel loads them in one go and spreads each to the
+// four lanes with a shuffle. Stored already broadcast they took four times the bytes, and a BVH leaf's records
+// four times the cache lines.
+struct alignas(16) Packed4 {
+    float x, y, z, w;
+
+    __m128 load() const { return _mm_load_ps(&x); }
+};
+
+template <int lane>
+inline vfloat4 spread(__m128 packed) {
+    return vfloat4(_mm_shuffle_ps(packed, packed, _MM_SHUFFLE(lane, lane, lane, lane)));
+}
+inline Vec3x4 spread_xyz(__m128 packed) {
+    return {spread<0>(packed), spread<1>(packed), spread<2>(packed)};
+}
 inline Vec3x4 select(vbool4 mask, const Vec3x4& a, const Vec3x4& b) {
     return {select(mask, a.x, b.x), select(mask, a.y, b.y), select(mask, a.z, b.z)};
 }

@@ -7,10 +7,11 @@
 
 namespace twinray::sse {
 
-// The centre and r² in one 16-byte load, spread to four lanes by a shuffle each in the kernel: a BVH leaf's
-// four spheres are one cache line (stored broadcast, as the other kinds are, they were four).
-struct alignas(16) SphereShape {
-    float center_and_radius_squared[4];
+// 16 bytes: a BVH leaf's four spheres are one cache line (64 bytes a sphere stored broadcast). Four shuffles a
+// test; boxes and cylinders, whose kernels would need six and twelve, stay broadcast (packed, small scenes of them
+// were 14–21% slower; docs/performance.md, "Packed sphere records").
+struct SphereShape {
+    Packed4 center_radius_squared;  // w: r²
 };
 
 // What one hit needs: its normal and re-projection.
@@ -37,13 +38,10 @@ inline SphereSurface make_surface(const scene::Sphere& sphere) {
 // nearer root.
 template <typename P>
 TWINRAY_KERNEL Span4 span_of(const SphereShape& sphere, const RayPacket& rays) {
-    const __m128 packed = _mm_load_ps(sphere.center_and_radius_squared);
-    const Vec3x4 center{vfloat4(_mm_shuffle_ps(packed, packed, _MM_SHUFFLE(0, 0, 0, 0))),
-                        vfloat4(_mm_shuffle_ps(packed, packed, _MM_SHUFFLE(1, 1, 1, 1))),
-                        vfloat4(_mm_shuffle_ps(packed, packed, _MM_SHUFFLE(2, 2, 2, 2)))};
-    Vec3x4 f = rays.origin - center;
+    const __m128 packed = sphere.center_radius_squared.load();
+    Vec3x4 f = rays.origin - spread_xyz(packed);
     vfloat4 b = dot<P>(f, rays.direction);
-    vfloat4 r2(_mm_shuffle_ps(packed, packed, _MM_SHUFFLE(3, 3, 3, 3)));
+    vfloat4 r2 = spread<3>(packed);
     vfloat4 discriminant;
     if constexpr (P::textbook_quadratic) {
         discriminant = b * b - (dot<P>(f, f) - r2);
