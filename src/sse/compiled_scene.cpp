@@ -18,10 +18,8 @@ scene::Box as_float_safe_box(const scene::Bounds& bounds) {
     return box;
 }
 
-// Appends a primitive to the list of its type (at top level, or inside one CSG object) and records its
-// surface for hits; returns where it went.
-BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int32_t id, float transmission,
-                      LeafTable& leaves) {
+// Appends a primitive to the list of its type (at top level, or inside one CSG object); returns where it went.
+BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int32_t id, float transmission) {
     BvhItem added{};
     std::visit(
         [&](const auto& shape) {
@@ -32,11 +30,26 @@ BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::i
                 list.items.push_back(make_shape(shape));
                 list.ids.push_back(id);
                 list.transmission.push_back(transmission);
-                leaves[static_cast<std::size_t>(object.leaf)] = {make_surface(shape), object.material};
             }
         },
         object.shape);
     return added;
+}
+
+// The surfaces and materials of the object's leaves (a CSG object's, all of them).
+void add_leaves(LeafTable& leaves, const scene::Object& object) {
+    std::visit(
+        [&](const auto& shape) {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (scene::is_primitive<S>) {
+                leaves[static_cast<std::size_t>(object.leaf)] = {make_surface(shape), object.material};
+            } else {
+                for (const scene::Object& child : shape.children) {
+                    add_leaves(leaves, child);
+                }
+            }
+        },
+        object.shape);
 }
 
 // What brute force spends on the object per packet, in sphere tests (relative_test_cost): a CSG object its
@@ -94,7 +107,6 @@ public:
                 instance_leaves.push_back(mesh.leaf);
             }
         }
-        out.leaves.assign(scene_.leaf_paths.size(), instance_leaves);
         // Reserved, not grown: a million primitives would otherwise be copied some twenty times over.
         scene::PrimitiveTypes::for_each([&](auto type) {
             using S = typename decltype(type)::type;
@@ -130,7 +142,7 @@ public:
                 bounds = {bound.min, bound.max};
                 out.csg_objects.push_back(std::move(compiled));
             } else {
-                item = add_primitive(out.primitives, object, object.leaf, transmission_of(object), out.leaves);
+                item = add_primitive(out.primitives, object, object.leaf, transmission_of(object));
                 bounds = scene::bounds(object);
             }
             if (is_finite(bounds)) {
@@ -156,6 +168,17 @@ public:
             add_bvh(out, std::move(bounded), unbounded, scene_.has_transparency());
         }
         add_culling_bounds(with_bvh ? out.unbounded : out.primitives, with_bvh);
+        // After the build too: its arrays and the table (48 bytes a leaf) are never held at once.
+        out.leaves.assign(scene_.leaf_paths.size(), instance_leaves);
+        for (const scene::Object& object : scene_.objects) {
+            add_leaves(out.leaves, object);
+        }
+        std::uint32_t mesh_index = 0;  // as add_mesh compiled them
+        for (const scene::Mesh& mesh : scene_.meshes) {
+            if (!mesh.placement) {
+                out.leaves[static_cast<std::size_t>(mesh.leaf)] = {MeshSurface{mesh_index++}, mesh.material};
+            }
+        }
         // After the build, which keeps their order: its arrays and a million records (116 MB) are never held at once.
         add_instances(out, instance_leaves.size());
         for (const scene::Light& light : scene_.lights) {
@@ -309,12 +332,10 @@ private:
     }
 
     // Its triangles to the triangle list (and their corners, where some mesh is smooth) and, bounded, to the
-    // BVH's inputs; its leaf to the mesh's surface.
+    // BVH's inputs.
     static void add_mesh(CompiledScene& out, const scene::Mesh& mesh, bool with_corners,
                          LargeArray<BvhInput>& bounded) {
         const scene::MeshData& data = *mesh.data;
-        out.leaves[static_cast<std::size_t>(mesh.leaf)] = {MeshSurface{static_cast<std::uint32_t>(out.meshes.size())},
-                                                           mesh.material};
         CompiledMesh compiled;
         if (data.smooth) {
             for (const scene::Vec3& normal : data.normals) {
@@ -409,7 +430,7 @@ private:
             } else {
                 int slot = static_cast<int>(compiled.slot_leaf.size());
                 compiled.slot_leaf.push_back(child.leaf);
-                add_primitive(compiled.leaves, child, slot, transmission_of(child), out.leaves);
+                add_primitive(compiled.leaves, child, slot, transmission_of(child));
                 children.push_back(static_cast<int>(compiled.nodes.size()));
                 compiled.nodes.push_back({scene::CsgOp::union_, 0, 0, slot});
             }
