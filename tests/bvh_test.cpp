@@ -190,6 +190,9 @@ TEST_F(Bvh, ImagesOfHardScenesAreBitIdenticalToBruteForce) {
     for (const auto& [name, scene] : hard_scenes()) {
         expect_images_identical(name, scene);
     }
+    // The floor plane alone: a BVH over no bounded item is empty, and every ray tests the flat lists, culled by
+    // tile as without one.
+    expect_images_identical("a plane alone (an empty BVH)", scene_of({}));
 }
 
 // Through the per-ray API: the same hit, t, leaf and normal bit for bit, and the same colour of the whole

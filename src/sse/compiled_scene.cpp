@@ -167,7 +167,10 @@ public:
         if (with_bvh) {
             add_bvh(out, std::move(bounded), unbounded, scene_.has_transparency());
         }
-        add_culling_bounds(with_bvh ? out.unbounded : out.primitives, with_bvh);
+        // For the lists CompiledScene::flat names: a BVH over no bounded item is empty, and then every ray tests
+        // `primitives`.
+        const bool in_bvh = !out.bvh.empty();
+        add_culling_bounds(in_bvh ? out.unbounded : out.primitives, in_bvh);
         // After the build too: its arrays and the table (48 bytes a leaf) are never held at once.
         out.leaves.assign(scene_.leaf_paths.size(), instance_leaves);
         for (const scene::Object& object : scene_.objects) {
