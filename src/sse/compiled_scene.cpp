@@ -123,12 +123,15 @@ public:
         }
         const bool with_bvh = accel_ == Accel::bvh || (accel_ == Accel::automatic &&
                                                        bounded_cost(shape_costs) > static_cast<double>(bvh_crossover));
+        // The BVH's inputs, made only for a BVH (32 bytes an item).
         LargeArray<BvhInput> bounded;
-        std::size_t mesh_items = 0;  // instances and triangles
-        for (const scene::Mesh& mesh : scene_.meshes) {
-            mesh_items += mesh.placement ? 1 : mesh.data->triangles.size();
+        if (with_bvh) {
+            std::size_t mesh_items = 0;  // instances and triangles
+            for (const scene::Mesh& mesh : scene_.meshes) {
+                mesh_items += mesh.placement ? 1 : mesh.data->triangles.size();
+            }
+            bounded.reserve(scene_.objects.size() + mesh_items);
         }
-        bounded.reserve(scene_.objects.size() + mesh_items);
         std::vector<BvhItem> unbounded;
         for (const scene::Object& object : scene_.objects) {
             BvhItem item;
@@ -145,10 +148,10 @@ public:
                 item = add_primitive(out.primitives, object, object.leaf, transmission_of(object));
                 bounds = scene::bounds(object);
             }
-            if (is_finite(bounds)) {
-                bounded.emplace_back(bounds, item);
-            } else {
+            if (!is_finite(bounds)) {
                 unbounded.push_back(item);
+            } else if (with_bvh) {
+                bounded.emplace_back(bounds, item);
             }
         }
         const bool any_smooth = std::any_of(scene_.meshes.begin(), scene_.meshes.end(), [](const scene::Mesh& mesh) {
@@ -157,12 +160,12 @@ public:
         std::uint32_t instance_index = 0;
         for (const scene::Mesh& mesh : scene_.meshes) {
             if (!mesh.placement) {
-                add_mesh(out, mesh, any_smooth, bounded);
-                continue;
+                add_mesh(out, mesh, any_smooth, with_bvh ? &bounded : nullptr);
+            } else if (with_bvh) {
+                const auto shape = static_cast<std::size_t>(mesh.placement->shape);
+                bounded.emplace_back(scene::placed_bounds(shape_bounds[shape], mesh.placement->transform()),
+                                     BvhItem{instance_list, instance_index++});
             }
-            const auto shape = static_cast<std::size_t>(mesh.placement->shape);
-            bounded.emplace_back(scene::placed_bounds(shape_bounds[shape], mesh.placement->transform()),
-                                 BvhItem{instance_list, instance_index++});
         }
         if (with_bvh) {
             add_bvh(out, std::move(bounded), unbounded, scene_.has_transparency());
@@ -334,10 +337,10 @@ private:
         }
     }
 
-    // Its triangles to the triangle list (and their corners, where some mesh is smooth) and, bounded, to the
-    // BVH's inputs.
+    // Its triangles to the triangle list (and their corners, where some mesh is smooth) and, where there is one, to
+    // the BVH's inputs.
     static void add_mesh(CompiledScene& out, const scene::Mesh& mesh, bool with_corners,
-                         LargeArray<BvhInput>& bounded) {
+                         LargeArray<BvhInput>* bounded) {
         const scene::MeshData& data = *mesh.data;
         CompiledMesh compiled;
         if (data.smooth) {
@@ -353,8 +356,10 @@ private:
             triangles.corners.reserve(triangles.corners.size() + live);
         }
         scene::for_each_live_triangle(data, [&](std::uint32_t i) {
-            bounded.push_back({scene::bounds(data, data.triangles[i]),
-                               {triangle_list, static_cast<std::uint32_t>(triangles.items.size())}});
+            if (bounded != nullptr) {
+                bounded->emplace_back(scene::bounds(data, data.triangles[i]),
+                                      BvhItem{triangle_list, static_cast<std::uint32_t>(triangles.items.size())});
+            }
             triangles.items.push_back(make_triangle(data, i, mesh.leaf));
             if (with_corners) {
                 triangles.corners.push_back(data.triangles[i]);
