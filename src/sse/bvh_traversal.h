@@ -38,20 +38,26 @@ struct NodeTest {
     vbool4 hit;    // lanes of `lanes` that meet the box within [0, t_max]
 };
 
-// Child c's box against the packet: slabs. A lane parallel to an axis gets ±∞ from both faces, or NaN where
-// its origin lies exactly on a padded face: min/max then return the other face's t, which is ±∞ and drops the
-// lane, rightly (it is δ outside).
-inline NodeTest test_child(const BvhNode& node, int c, const BvhRays& rays, vfloat4 t_max, vbool4 lanes) {
+// A box against the packet: slabs. A lane parallel to an axis gets ±∞ from both faces, or NaN where its origin
+// lies exactly on a padded face: min/max then return the other face's t, which is ±∞ and drops the lane, rightly
+// (it is δ outside).
+inline NodeTest test_box(const Vec3& low, const Vec3& high, const BvhRays& rays, vfloat4 t_max, vbool4 lanes) {
     vfloat4 near(0.0f);
     vfloat4 far = t_max;
     for (int axis = 0; axis < 3; ++axis) {
-        vfloat4 t_low = (vfloat4(node.low[axis][c]) - rays.low_face_origin[axis]) * rays.inverse_direction[axis];
-        vfloat4 t_high = (vfloat4(node.high[axis][c]) - rays.high_face_origin[axis]) * rays.inverse_direction[axis];
+        vfloat4 t_low = (vfloat4(low[axis]) - rays.low_face_origin[axis]) * rays.inverse_direction[axis];
+        vfloat4 t_high = (vfloat4(high[axis]) - rays.high_face_origin[axis]) * rays.inverse_direction[axis];
         near = max(near, min(t_low, t_high));
         far = min(far, max(t_low, t_high));
     }
     vbool4 hit = lanes & (near <= far);
     return {select(hit, near, vfloat4(infinity)), hit};
+}
+
+// Child c's box against the packet.
+inline NodeTest test_child(const BvhNode& node, int c, const BvhRays& rays, vfloat4 t_max, vbool4 lanes) {
+    return test_box({node.low[0][c], node.low[1][c], node.low[2][c]}, {node.high[0][c], node.high[1][c], node.high[2][c]},
+                    rays, t_max, lanes);
 }
 
 // One lane's ray against a node's four boxes at once (the same slab arithmetic as test_child, lane by lane, so
@@ -118,7 +124,7 @@ inline void prefetch_child(const Bvh& bvh, std::uint32_t first, std::uint32_t co
 // Pushes one sibling onto the run of its siblings (from `base`), kept farthest first, so that the nearest is
 // popped first.
 template <typename Entry>
-void push_in_order(Entry* stack, int base, int& size, const Entry& entry) {
+TWINRAY_KERNEL void push_in_order(Entry* stack, int base, int& size, const Entry& entry) {
     int at = size++;
     while (at > base && order_of(stack[at - 1]) < order_of(entry)) {
         stack[at] = stack[at - 1];
@@ -279,15 +285,42 @@ inline RayPacket object_rays(const InstanceRecord& instance, const RayPacket& ra
     return RayPacket(origin, inverse * rays.direction, rays.active);
 }
 
+// Whether some lane of `lanes` may meet the instance before its t_max: the packet against the instance's box in the
+// world, its shape's box carried out (|L|·half extent about L·centre + t) and padded by bvh_padding of its largest
+// |coordinate|, as the BVH pads the boxes it holds (bvh.h), which far exceeds the float rounding of these few sums
+// of products (a few ulps of the same coordinates). A BVH leaf holds several instances, and does not keep their
+// boxes: without this test each of them costs the trip into its space and its shape's root test, and a packet of
+// primary rays through a forest of 1 000 trees entered 5.4 instances where 1.2 pass it (docs/performance.md).
+inline bool instance_box_met(const CompiledShape& shape, const InstanceRecord& instance, const BvhRays& world,
+                             vbool4 lanes, const vfloat4& t_max) {
+    const math::Matrix3<float>& linear = instance.to_world.linear;
+    const Vec3 center = linear * shape.center + instance.to_world.translation;
+    Vec3 half;
+    float reach = 0.0f;
+    for (int axis = 0; axis < 3; ++axis) {
+        const Vec3& row = linear.row[axis];
+        half[axis] = std::abs(row.x) * shape.half_extent.x + std::abs(row.y) * shape.half_extent.y +
+                     std::abs(row.z) * shape.half_extent.z;
+        reach = std::max(reach, std::abs(center[axis]) + half[axis]);
+    }
+    const float pad = reach * static_cast<float>(bvh_padding);
+    const Vec3 padded = half + Vec3(pad, pad, pad);
+    return any(test_box(center - padded, center + padded, world, t_max, lanes).hit);
+}
+
 // Calls visit(crossing, place) for every triangle of the instance's shape (`place` in its triangle list) that some
 // lane of `lanes` meets before its t_max, through the shape's BVH where it has one; visit may lower t_max and clear
-// lanes (a shadow ray blocked), both read again at every node, as for_each_leaf_met reads them.
+// lanes (a shadow ray blocked), both read again at every node, as for_each_leaf_met reads them. `world`: the
+// packet's own BvhRays, for the instance's box.
 template <typename P, typename Visit>
 void for_each_instance_crossing(const CompiledScene& scene, const InstanceRecord& instance, const RayPacket& rays,
-                                vbool4& lanes, const vfloat4& t_max, Visit&& visit) {
+                                const BvhRays& world, vbool4& lanes, const vfloat4& t_max, Visit&& visit) {
+    const CompiledShape& shape = scene.shapes[instance.shape];
+    if (!instance_box_met(shape, instance, world, lanes, t_max)) {
+        return;
+    }
     const RayPacket object = object_rays(instance, rays);
     const ShearedRays sheared = ShearedRays::of<P>(object);
-    const CompiledShape& shape = scene.shapes[instance.shape];
     if (shape.bvh.empty()) {
         for_each_triangle_crossing<P>(shape.triangles, sheared, visit);
         return;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace twinray::sse {
@@ -117,9 +118,9 @@ public:
         std::vector<double> shape_costs;
         std::vector<scene::Bounds> shape_bounds;
         for (const scene::MeshShape& shape : scene_.mesh_shapes) {
-            out.shapes.push_back(compile_shape(*shape.data));
-            shape_costs.push_back(shape_cost(out.shapes.back()));
             shape_bounds.push_back(scene::vertex_bounds(*shape.data));
+            out.shapes.push_back(compile_shape(*shape.data, shape_bounds.back()));
+            shape_costs.push_back(shape_cost(out.shapes.back()));
         }
         const bool with_bvh = accel_ == Accel::bvh || (accel_ == Accel::automatic &&
                                                        bounded_cost(shape_costs) > static_cast<double>(bvh_crossover));
@@ -383,8 +384,19 @@ private:
 
     // A shape's triangles in its own space, with its own BVH where brute force would cost more (as the scene's), its
     // records then in the order of that BVH's leaves.
-    CompiledShape compile_shape(const scene::MeshData& data) const {
+    CompiledShape compile_shape(const scene::MeshData& data, const scene::Bounds& box) const {
         CompiledShape shape;
+        const scene::Vec3 center = (box.low + box.high) * 0.5;
+        shape.center = Vec3(center);
+        for (int axis = 0; axis < 3; ++axis) {
+            const double half = (box.high[axis] - box.low[axis]) * 0.5 +
+                                std::abs(center[axis] - static_cast<double>(shape.center[axis]));
+            shape.half_extent[axis] = static_cast<float>(half);
+            if (static_cast<double>(shape.half_extent[axis]) < half) {
+                shape.half_extent[axis] =
+                    std::nextafter(shape.half_extent[axis], std::numeric_limits<float>::infinity());
+            }
+        }
         if (data.smooth) {
             for (const scene::Vec3& normal : data.normals) {
                 shape.mesh.normals.push_back(Vec3(normal));

@@ -58,7 +58,7 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
 // A triangle's crossing, kept as keep_nearest keeps a primitive's: smaller t wins; at equal t the smaller
 // leaf, and within one mesh the smaller triangle index. `instance`: the index of the instance whose shape's
 // triangle it is (its leaf `leaf_id`), or -1 for a mesh's (`leaf_id` the record's).
-inline void keep_nearest_triangle(Nearest4& nearest, const TriangleHit4& crossing, std::int32_t leaf_id,
+TWINRAY_KERNEL void keep_nearest_triangle(Nearest4& nearest, const TriangleHit4& crossing, std::int32_t leaf_id,
                                   std::uint32_t triangle_index, std::uint32_t place, std::int32_t instance) {
     vint4 leaf(leaf_id);
     vint4 triangle(static_cast<std::int32_t>(triangle_index));
@@ -214,12 +214,12 @@ public:
         };
         // An instance's crossings enter where the placed triangle's front faces the ray: its shape's front, unless
         // the transform mirrors.
-        auto keep_instance = [&](std::uint32_t index) {
+        auto keep_instance = [&](const BvhRays& box_rays, std::uint32_t index) {
             const InstanceRecord& instance = scene_.instances[index];
             const TriangleList& triangles = scene_.shapes[instance.shape].triangles;
             vbool4 lanes = rays.active;
             for_each_instance_crossing<P>(
-                scene_, instance, rays, lanes, nearest.t, [&](TriangleHit4 crossing, std::uint32_t place) {
+                scene_, instance, rays, box_rays, lanes, nearest.t, [&](TriangleHit4 crossing, std::uint32_t place) {
                     crossing.front = instance.mirrors ? !crossing.front : crossing.front;
                     keep_nearest_triangle(nearest, crossing, instance.leaf, triangles.items[place].triangle, place,
                                           static_cast<std::int32_t>(index));
@@ -233,16 +233,20 @@ public:
             };
             csg.collect();
             vbool4 lanes = rays.active;
-            for_each_leaf_met(scene_.bvh, BvhRays(rays), lanes, nearest.t, [&](BvhLeaf leaf) {
+            const BvhRays box_rays(rays);
+            for_each_leaf_met(scene_.bvh, box_rays, lanes, nearest.t, [&](BvhLeaf leaf) {
                 for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, keep_and_fetch, keep_triangle,
-                                         keep_instance);
+                                         [&](std::uint32_t index) { keep_instance(box_rays, index); });
             });
         } else {
             if (sheared) {
                 for_each_triangle_crossing<P>(scene_.triangles, *sheared, keep_triangle);
             }
-            for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
-                keep_instance(i);
+            if (!scene_.instances.empty()) {
+                const BvhRays box_rays(rays);
+                for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
+                    keep_instance(box_rays, i);
+                }
             }
         }
         if (!scene_.csg_objects.empty()) {
@@ -296,11 +300,11 @@ public:
             const TriangleRecord& record = scene_.triangles.items[place];
             add_triangle(crossing, record.leaf, record.triangle, place, -1, false);
         };
-        auto add_instance = [&](std::uint32_t index) {
+        auto add_instance = [&](const BvhRays& box_rays, std::uint32_t index) {
             const InstanceRecord& instance = scene_.instances[index];
             const TriangleList& triangles = scene_.shapes[instance.shape].triangles;
             vbool4 lanes = rays.active;
-            for_each_instance_crossing<P>(scene_, instance, rays, lanes, vfloat4(distance),
+            for_each_instance_crossing<P>(scene_, instance, rays, box_rays, lanes, vfloat4(distance),
                                           [&](const TriangleHit4& crossing, std::uint32_t place) {
                                               add_triangle(crossing, instance.leaf, triangles.items[place].triangle,
                                                            place, static_cast<std::int32_t>(index), instance.mirrors);
@@ -312,15 +316,20 @@ public:
         if (!scene_.bvh.empty()) {
             csg.collect();
             vbool4 lanes = rays.active;
-            for_each_leaf_met(scene_.bvh, BvhRays(rays), lanes, vfloat4(distance), [&](BvhLeaf leaf) {
-                for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, add_span, add_mesh_triangle, add_instance);
+            const BvhRays box_rays(rays);
+            for_each_leaf_met(scene_.bvh, box_rays, lanes, vfloat4(distance), [&](BvhLeaf leaf) {
+                for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, add_span, add_mesh_triangle,
+                                         [&](std::uint32_t index) { add_instance(box_rays, index); });
             });
         } else {
             if (sheared) {
                 for_each_triangle_crossing<P>(scene_.triangles, *sheared, add_mesh_triangle);
             }
-            for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
-                add_instance(i);
+            if (!scene_.instances.empty()) {
+                const BvhRays box_rays(rays);
+                for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
+                    add_instance(box_rays, i);
+                }
             }
         }
         csg.for_each(scene_, [&](const CsgObject& object) {

@@ -121,24 +121,29 @@ public:
             auto block_triangle = [&](const TriangleHit4& crossing, std::uint32_t) {
                 open = open & !triangle_between(crossing);
             };
-            auto block_instance = [&](std::uint32_t index) {
+            auto block_instance = [&](const BvhRays& box_rays, std::uint32_t index) {
                 if (any(open)) {
-                    for_each_instance_crossing<P>(scene_, scene_.instances[index], rays, open, distance,
+                    for_each_instance_crossing<P>(scene_, scene_.instances[index], rays, box_rays, open, distance,
                                                   block_triangle);
                 }
             };
             for_each_span<P>(scene_.flat(), rays, block);
             if (!scene_.bvh.empty() && any(open)) {
                 csg.collect();
-                for_each_leaf_met(scene_.bvh, BvhRays(rays), open, distance, [&](BvhLeaf leaf) {
-                    for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle, block_instance);
+                const BvhRays box_rays(rays);
+                for_each_leaf_met(scene_.bvh, box_rays, open, distance, [&](BvhLeaf leaf) {
+                    for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle,
+                                             [&](std::uint32_t index) { block_instance(box_rays, index); });
                 });
             } else if (scene_.bvh.empty()) {
                 if (sheared && any(open)) {
                     for_each_triangle_crossing<P>(scene_.triangles, *sheared, block_triangle);
                 }
-                for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
-                    block_instance(i);
+                if (!scene_.instances.empty()) {
+                    const BvhRays box_rays(rays);
+                    for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
+                        block_instance(box_rays, i);
+                    }
                 }
             }
         } else {
@@ -164,10 +169,12 @@ public:
                         factors.add({triangle_list, leaf, between, none_true(), material_transmission(leaf)});
                     }
                 };
+                const BvhRays box_rays(rays);
                 auto record_instance = [&](std::uint32_t index) {
                     const InstanceRecord& instance = scene_.instances[index];
                     for_each_instance_crossing<P>(
-                        scene_, instance, rays, lanes, distance, [&](const TriangleHit4& crossing, std::uint32_t) {
+                        scene_, instance, rays, box_rays, lanes, distance,
+                        [&](const TriangleHit4& crossing, std::uint32_t) {
                             vbool4 between = triangle_between(crossing);
                             if (any(between)) {
                                 factors.add(
@@ -178,7 +185,7 @@ public:
                 for_each_span<P>(scene_.flat(), rays, record);
                 csg.collect();
                 vbool4 all_lanes = lanes;
-                for_each_leaf_met(scene_.bvh, BvhRays(rays), all_lanes, distance, [&](BvhLeaf leaf) {
+                for_each_leaf_met(scene_.bvh, box_rays, all_lanes, distance, [&](BvhLeaf leaf) {
                     for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, record, record_triangle,
                                              record_instance);
                 });
@@ -205,12 +212,16 @@ public:
                                      material_transmission(scene_.triangles.items[place].leaf));
                         });
                 }
-                for (const InstanceRecord& instance : scene_.instances) {
-                    const float transmission = transmission_of(instance);
-                    for_each_instance_crossing<P>(scene_, instance, rays, lanes, distance,
-                                                  [&](const TriangleHit4& crossing, std::uint32_t) {
-                                                      multiply(triangle_between(crossing), none_true(), transmission);
-                                                  });
+                if (!scene_.instances.empty()) {
+                    const BvhRays box_rays(rays);
+                    for (const InstanceRecord& instance : scene_.instances) {
+                        const float transmission = transmission_of(instance);
+                        for_each_instance_crossing<P>(
+                            scene_, instance, rays, box_rays, lanes, distance,
+                            [&](const TriangleHit4& crossing, std::uint32_t) {
+                                multiply(triangle_between(crossing), none_true(), transmission);
+                            });
+                    }
                 }
             }
             open = open & (transmittance > zero);
