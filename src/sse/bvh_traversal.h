@@ -56,8 +56,8 @@ inline NodeTest test_box(const Vec3& low, const Vec3& high, const BvhRays& rays,
 
 // Child c's box against the packet.
 inline NodeTest test_child(const BvhNode& node, int c, const BvhRays& rays, vfloat4 t_max, vbool4 lanes) {
-    return test_box({node.low[0][c], node.low[1][c], node.low[2][c]}, {node.high[0][c], node.high[1][c], node.high[2][c]},
-                    rays, t_max, lanes);
+    return test_box({node.low[0][c], node.low[1][c], node.low[2][c]},
+                    {node.high[0][c], node.high[1][c], node.high[2][c]}, rays, t_max, lanes);
 }
 
 // One lane's ray against a node's four boxes at once (the same slab arithmetic as test_child, lane by lane, so

@@ -59,7 +59,7 @@ inline void keep_nearest(Nearest4& nearest, const Span4& span, std::int32_t leaf
 // leaf, and within one mesh the smaller triangle index. `instance`: the index of the instance whose shape's
 // triangle it is (its leaf `leaf_id`), or -1 for a mesh's (`leaf_id` the record's).
 TWINRAY_KERNEL void keep_nearest_triangle(Nearest4& nearest, const TriangleHit4& crossing, std::int32_t leaf_id,
-                                  std::uint32_t triangle_index, std::uint32_t place, std::int32_t instance) {
+                                          std::uint32_t triangle_index, std::uint32_t place, std::int32_t instance) {
     vint4 leaf(leaf_id);
     vint4 triangle(static_cast<std::int32_t>(triangle_index));
     vbool4 same_leaf = leaf == nearest.leaf;

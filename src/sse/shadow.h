@@ -172,15 +172,14 @@ public:
                 const BvhRays box_rays(rays);
                 auto record_instance = [&](std::uint32_t index) {
                     const InstanceRecord& instance = scene_.instances[index];
-                    for_each_instance_crossing<P>(
-                        scene_, instance, rays, box_rays, lanes, distance,
-                        [&](const TriangleHit4& crossing, std::uint32_t) {
-                            vbool4 between = triangle_between(crossing);
-                            if (any(between)) {
-                                factors.add(
-                                    {instance_list, instance.leaf, between, none_true(), transmission_of(instance)});
-                            }
-                        });
+                    for_each_instance_crossing<P>(scene_, instance, rays, box_rays, lanes, distance,
+                                                  [&](const TriangleHit4& crossing, std::uint32_t) {
+                                                      vbool4 between = triangle_between(crossing);
+                                                      if (any(between)) {
+                                                          factors.add({instance_list, instance.leaf, between,
+                                                                       none_true(), transmission_of(instance)});
+                                                      }
+                                                  });
                 };
                 for_each_span<P>(scene_.flat(), rays, record);
                 csg.collect();
@@ -216,11 +215,11 @@ public:
                     const BvhRays box_rays(rays);
                     for (const InstanceRecord& instance : scene_.instances) {
                         const float transmission = transmission_of(instance);
-                        for_each_instance_crossing<P>(
-                            scene_, instance, rays, box_rays, lanes, distance,
-                            [&](const TriangleHit4& crossing, std::uint32_t) {
-                                multiply(triangle_between(crossing), none_true(), transmission);
-                            });
+                        for_each_instance_crossing<P>(scene_, instance, rays, box_rays, lanes, distance,
+                                                      [&](const TriangleHit4& crossing, std::uint32_t) {
+                                                          multiply(triangle_between(crossing), none_true(),
+                                                                   transmission);
+                                                      });
                     }
                 }
             }
