@@ -4,6 +4,7 @@
 // (tests/bvh_test.cpp); objects without finite bounds (planes, some CSG) are tested by every ray.
 #pragma once
 
+#include "math/rounding.h"
 #include "reference/ray.h"
 #include "scene/geometry.h"
 
@@ -60,8 +61,8 @@ public:
             }
             Node& node = nodes_[task.node];
             for (int axis = 0; axis < 3; ++axis) {
-                node.low[axis] = rounded(box.low[axis], -1);
-                node.high[axis] = rounded(box.high[axis], 1);
+                node.low[axis] = math::rounded_down<T>(box.low[axis]);
+                node.high[axis] = math::rounded_up<T>(box.high[axis]);
             }
             scene::Vec3 extent = spread.high - spread.low;
             int axis = extent[1] > extent[0] ? (extent[2] > extent[1] ? 2 : 1) : (extent[2] > extent[0] ? 2 : 0);
@@ -153,17 +154,6 @@ private:
     static scene::Vec3 max(const scene::Vec3& a, const scene::Vec3& b) {
         return {std::max(a[0], b[0]), std::max(a[1], b[1]), std::max(a[2], b[2])};
     }
-    // `value` in T, rounded towards −∞ (direction −1) or +∞ (+1), so the box in T holds the one in double.
-    static T rounded(double value, int direction) {
-        T out = static_cast<T>(value);
-        if (direction < 0 && static_cast<double>(out) > value) {
-            out = std::nextafter(out, -std::numeric_limits<T>::infinity());
-        } else if (direction > 0 && static_cast<double>(out) < value) {
-            out = std::nextafter(out, std::numeric_limits<T>::infinity());
-        }
-        return out;
-    }
-
     // Slabs; a NaN (an origin exactly on a padded face, parallel to it) is passed over by std::min and
     // std::max, which keeps the box: conservative.
     static bool meets(const Node& node, const Vec3<T>& low_face_origin, const Vec3<T>& high_face_origin,

@@ -19,6 +19,19 @@ constexpr T rounding_bound(int n) {
     return static_cast<T>(n) * u / (T(1) - static_cast<T>(n) * u);
 }
 
+// `value` in T, rounded towards +∞ (rounded_up) or −∞ (rounded_down) rather than to nearest: a bound or a box in
+// double that must still hold once in T.
+template <typename T>
+T rounded_up(double value) {
+    T out = static_cast<T>(value);
+    return static_cast<double>(out) < value ? std::nextafter(out, std::numeric_limits<T>::infinity()) : out;
+}
+template <typename T>
+T rounded_down(double value) {
+    T out = static_cast<T>(value);
+    return static_cast<double>(out) > value ? std::nextafter(out, -std::numeric_limits<T>::infinity()) : out;
+}
+
 // A bound of the form size + point_factor·|p|∞: how far a re-projected point may be off its surface, or
 // how far off it a secondary ray must start. Both terms scale with the primitive's size and where it
 // stands, never with how far the ray travelled (docs/numerics.md).

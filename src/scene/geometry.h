@@ -275,11 +275,7 @@ struct TransformNorms {
 template <typename T>
 TransformNorms<T> transform_norms(const Transform& m) {
     // The norm's own rounding in double (a few ulps), then rounded up to T.
-    auto up = [](double v) {
-        double above = v * (1 + math::rounding_bound<double>(8));
-        T r = static_cast<T>(above);
-        return static_cast<double>(r) < above ? std::nextafter(r, std::numeric_limits<T>::infinity()) : r;
-    };
+    auto up = [](double v) { return math::rounded_up<T>(v * (1 + math::rounding_bound<double>(8))); };
     return {up(math::frobenius_norm(m.linear)), up(math::frobenius_norm(m.inverse)), up(math::row_sum_norm(m.linear)),
             up(math::row_sum_norm(m.inverse)), up(largest_coordinate(m.translation))};
 }

@@ -1,8 +1,9 @@
 #include "sse/compiled_scene.h"
 
+#include "math/rounding.h"
+
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 
 namespace twinray::sse {
@@ -389,13 +390,9 @@ private:
         const scene::Vec3 center = (box.low + box.high) * 0.5;
         shape.center = Vec3(center);
         for (int axis = 0; axis < 3; ++axis) {
-            const double half = (box.high[axis] - box.low[axis]) * 0.5 +
-                                std::abs(center[axis] - static_cast<double>(shape.center[axis]));
-            shape.half_extent[axis] = static_cast<float>(half);
-            if (static_cast<double>(shape.half_extent[axis]) < half) {
-                shape.half_extent[axis] =
-                    std::nextafter(shape.half_extent[axis], std::numeric_limits<float>::infinity());
-            }
+            shape.half_extent[axis] =
+                math::rounded_up<float>((box.high[axis] - box.low[axis]) * 0.5 +
+                                        std::abs(center[axis] - static_cast<double>(shape.center[axis])));
         }
         if (data.smooth) {
             for (const scene::Vec3& normal : data.normals) {
