@@ -15,6 +15,8 @@
 #include <utility>
 #include <vector>
 
+#include <unistd.h>
+
 namespace twinray::cli::bench {
 namespace {
 
@@ -31,9 +33,9 @@ struct Cache {
     std::size_t bytes = 0;
 };
 
-// The data and unified caches of CPU 0, as /sys/devices/system/cpu/cpu0/cache gives them (what lscpu reads;
-// glibc's sysconf reports 384 MB of L3 on this VM, lscpu 32 MiB).
-std::vector<Cache> data_caches() {
+// The data and unified caches of CPU 0 in /sys/devices/system/cpu/cpu0/cache (what lscpu reads); none where the
+// folder is missing.
+std::vector<Cache> caches_in_sys() {
     std::vector<Cache> caches;
     for (int index = 0;; ++index) {
         const std::string folder = "/sys/devices/system/cpu/cpu0/cache/index" + std::to_string(index) + "/";
@@ -52,6 +54,25 @@ std::vector<Cache> data_caches() {
         const char unit = size.back();
         cache.bytes = std::stoull(size) * (unit == 'K' ? 1024u : unit == 'M' ? 1024u * 1024u : 1u);
         caches.push_back(cache);
+    }
+    return caches;
+}
+
+// The data and unified caches of CPU 0, as /sys/devices/system/cpu/cpu0/cache gives them (what lscpu reads;
+// glibc's sysconf reports 384 MB of L3 on one VM here, lscpu 32 MiB). Some VMs here have no such folder: then
+// L1 and L2 as sysconf gives them, and no L3, whose sysconf size is not to be trusted (508 MB on another VM); the
+// DRAM row's buffer is large enough either way.
+std::vector<Cache> data_caches() {
+    std::vector<Cache> caches = caches_in_sys();
+    if (!caches.empty()) {
+        return caches;
+    }
+    const long level1 = sysconf(_SC_LEVEL1_DCACHE_SIZE), level2 = sysconf(_SC_LEVEL2_CACHE_SIZE);
+    if (level1 > 0) {
+        caches.push_back({1, static_cast<std::size_t>(level1)});
+    }
+    if (level2 > 0) {
+        caches.push_back({2, static_cast<std::size_t>(level2)});
     }
     return caches;
 }
