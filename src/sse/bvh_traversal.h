@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <utility>
 
 namespace twinray::sse {
 
@@ -38,15 +39,15 @@ struct NodeTest {
     vbool4 hit;    // lanes of `lanes` that meet the box within [0, t_max]
 };
 
-// A box against the packet: slabs. A lane parallel to an axis gets ±∞ from both faces, or NaN where its origin
-// lies exactly on a padded face: min/max then return the other face's t, which is ±∞ and drops the lane, rightly
-// (it is δ outside).
-inline NodeTest test_box(const Vec3& low, const Vec3& high, const BvhRays& rays, vfloat4 t_max, vbool4 lanes) {
+// A box against the packet: slabs, each face's coordinate in all four lanes. A lane parallel to an axis gets ±∞
+// from both faces, or NaN where its origin lies exactly on a padded face: min/max then return the other face's t,
+// which is ±∞ and drops the lane, rightly (it is δ outside).
+inline NodeTest test_box(const Vec3x4& low, const Vec3x4& high, const BvhRays& rays, vfloat4 t_max, vbool4 lanes) {
     vfloat4 near(0.0f);
     vfloat4 far = t_max;
     for (int axis = 0; axis < 3; ++axis) {
-        vfloat4 t_low = (vfloat4(low[axis]) - rays.low_face_origin[axis]) * rays.inverse_direction[axis];
-        vfloat4 t_high = (vfloat4(high[axis]) - rays.high_face_origin[axis]) * rays.inverse_direction[axis];
+        vfloat4 t_low = (low[axis] - rays.low_face_origin[axis]) * rays.inverse_direction[axis];
+        vfloat4 t_high = (high[axis] - rays.high_face_origin[axis]) * rays.inverse_direction[axis];
         near = max(near, min(t_low, t_high));
         far = min(far, max(t_low, t_high));
     }
@@ -56,8 +57,8 @@ inline NodeTest test_box(const Vec3& low, const Vec3& high, const BvhRays& rays,
 
 // Child c's box against the packet.
 inline NodeTest test_child(const BvhNode& node, int c, const BvhRays& rays, vfloat4 t_max, vbool4 lanes) {
-    return test_box({node.low[0][c], node.low[1][c], node.low[2][c]},
-                    {node.high[0][c], node.high[1][c], node.high[2][c]}, rays, t_max, lanes);
+    return test_box({vfloat4(node.low[0][c]), vfloat4(node.low[1][c]), vfloat4(node.low[2][c])},
+                    {vfloat4(node.high[0][c]), vfloat4(node.high[1][c]), vfloat4(node.high[2][c])}, rays, t_max, lanes);
 }
 
 // One lane's ray against a node's four boxes at once (the same slab arithmetic as test_child, lane by lane, so
@@ -285,40 +286,47 @@ inline RayPacket object_rays(const InstanceRecord& instance, const RayPacket& ra
     return RayPacket(origin, inverse * rays.direction, rays.active);
 }
 
-// Whether some lane of `lanes` may meet the instance before its t_max: the packet against the instance's box in the
-// world, its shape's box carried out (|L|·half extent about L·centre + t) and padded by bvh_padding of its largest
-// |coordinate|, as the BVH pads the boxes it holds (bvh.h), which far exceeds the float rounding of these few sums
-// of products (a few ulps of the same coordinates). A BVH leaf holds several instances, and does not keep their
-// boxes: without this test each of them costs the trip into its space and its shape's root test, and a packet of
-// primary rays through a forest of 1 000 trees entered 5.4 instances where 1.2 pass it (docs/performance.md).
-inline bool instance_box_met(const CompiledShape& shape, const InstanceRecord& instance, const BvhRays& world,
-                             vbool4 lanes, const vfloat4& t_max) {
+// The packet against the instance's box in the world: its shape's box carried out (|L|·half extent about L·centre +
+// t) and padded by bvh_padding of its largest |coordinate|, as the BVH pads the boxes it holds (bvh.h), which far
+// exceeds the float rounding of these few sums of products (a few ulps of the same coordinates). A BVH leaf holds
+// several instances and does not keep their boxes: without this test each of them costs the trip into its space and
+// its shape's root test, and a packet of primary rays through a forest of 1 000 trees entered 5.4 instances where 1.2
+// pass it (docs/performance.md). In registers: the rows of L, one load each, transposed into its columns, so that
+// each axis's sum takes its products in the scalar dot product's order, (x + y) + z (DPPS, one instruction a row, is
+// slower for its latency).
+TWINRAY_KERNEL NodeTest test_instance_box(const CompiledShape& shape, const InstanceRecord& instance,
+                                          const BvhRays& world, vbool4 lanes, const vfloat4& t_max) {
     const math::Matrix3<float>& linear = instance.to_world.linear;
-    const Vec3 center = linear * shape.center + instance.to_world.translation;
-    Vec3 half;
-    float reach = 0.0f;
-    for (int axis = 0; axis < 3; ++axis) {
-        const Vec3& row = linear.row[axis];
-        half[axis] = std::abs(row.x) * shape.half_extent.x + std::abs(row.y) * shape.half_extent.y +
-                     std::abs(row.z) * shape.half_extent.z;
-        reach = std::max(reach, std::abs(center[axis]) + half[axis]);
-    }
-    const float pad = reach * static_cast<float>(bvh_padding);
-    const Vec3 padded = half + Vec3(pad, pad, pad);
-    return any(test_box(center - padded, center + padded, world, t_max, lanes).hit);
+    // Each row's fourth lane is the record's next float; the transpose moves it to the fourth column, unused.
+    __m128 x = _mm_loadu_ps(&linear.row[0].x), y = _mm_loadu_ps(&linear.row[1].x);
+    __m128 z = _mm_loadu_ps(&linear.row[2].x), unused = _mm_setzero_ps();
+    _MM_TRANSPOSE4_PS(x, y, z, unused);
+    const __m128 sign = _mm_set1_ps(-0.0f);
+    const __m128 c = shape.center.load(), h = shape.half_extent.load();
+    const __m128 t = _mm_blend_ps(_mm_loadu_ps(&instance.to_world.translation.x), _mm_setzero_ps(), 8);
+    const __m128 center =
+        _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(x, spread<0>(c).m), _mm_mul_ps(y, spread<1>(c).m)),
+                              _mm_mul_ps(z, spread<2>(c).m)),
+                   t);
+    const __m128 half = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_andnot_ps(sign, x), spread<0>(h).m),
+                                              _mm_mul_ps(_mm_andnot_ps(sign, y), spread<1>(h).m)),
+                                   _mm_mul_ps(_mm_andnot_ps(sign, z), spread<2>(h).m));
+    const __m128 far = _mm_add_ps(_mm_andnot_ps(sign, center), half);
+    const __m128 reach = _mm_max_ss(_mm_max_ss(far, _mm_movehl_ps(far, far)), _mm_shuffle_ps(far, far, 1));
+    const __m128 pad = _mm_mul_ss(reach, _mm_set_ss(static_cast<float>(bvh_padding)));
+    const __m128 padded = _mm_add_ps(half, _mm_shuffle_ps(pad, pad, 0));
+    return test_box(spread_xyz(_mm_sub_ps(center, padded)), spread_xyz(_mm_add_ps(center, padded)), world, t_max,
+                    lanes);
 }
 
 // Calls visit(crossing, place) for every triangle of the instance's shape (`place` in its triangle list) that some
 // lane of `lanes` meets before its t_max, through the shape's BVH where it has one; visit may lower t_max and clear
-// lanes (a shadow ray blocked), both read again at every node, as for_each_leaf_met reads them. `world`: the
-// packet's own BvhRays, for the instance's box.
+// lanes (a shadow ray blocked), both read again at every node, as for_each_leaf_met reads them. The caller has
+// tested the instance's box (test_instance_box).
 template <typename P, typename Visit>
-void for_each_instance_crossing(const CompiledScene& scene, const InstanceRecord& instance, const RayPacket& rays,
-                                const BvhRays& world, vbool4& lanes, const vfloat4& t_max, Visit&& visit) {
+void for_each_crossing_inside(const CompiledScene& scene, const InstanceRecord& instance, const RayPacket& rays,
+                              vbool4& lanes, const vfloat4& t_max, Visit&& visit) {
     const CompiledShape& shape = scene.shapes[instance.shape];
-    if (!instance_box_met(shape, instance, world, lanes, t_max)) {
-        return;
-    }
     const RayPacket object = object_rays(instance, rays);
     const ShearedRays sheared = ShearedRays::of<P>(object);
     if (shape.bvh.empty()) {
@@ -335,6 +343,63 @@ void for_each_instance_crossing(const CompiledScene& scene, const InstanceRecord
         }
     });
 }
+
+// for_each_crossing_inside behind the instance's box. `world`: the packet's own BvhRays.
+template <typename P, typename Visit>
+void for_each_instance_crossing(const CompiledScene& scene, const InstanceRecord& instance, const RayPacket& rays,
+                                const BvhRays& world, vbool4& lanes, const vfloat4& t_max, Visit&& visit) {
+    if (any(test_instance_box(scene.shapes[instance.shape], instance, world, lanes, t_max).hit)) {
+        for_each_crossing_inside<P>(scene, instance, rays, lanes, t_max, std::forward<Visit>(visit));
+    }
+}
+
+// A BVH leaf's instances whose boxes a packet met, entered nearest box first, each only if a lane still meets its box
+// before that lane's t_max: a nearer tree's hit then culls the trees behind it. For nearest hits, whose answer does
+// not depend on the order crossings are met in (keep_nearest); a shadow multiplies its factors in list order and
+// keeps the leaf's. More than `capacity` (a leaf of the halving splits near the depth limit): the rest entered at once.
+class InstancesByDistance {
+public:
+    static constexpr int capacity = 8;
+
+    // False where full: then the caller enters this one now.
+    bool add(std::uint32_t index, const NodeTest& box) {
+        if (count_ == capacity) {
+            return false;
+        }
+        Met met{box.near.m, box.hit.m, horizontal_min(box.near), index};
+        int at = count_++;
+        while (at > 0 && met_[at - 1].least_near > met.least_near) {
+            met_[at] = met_[at - 1];
+            --at;
+        }
+        met_[at] = met;
+        return true;
+    }
+
+    bool empty() const { return count_ == 0; }
+
+    // enter(index, lanes) for each, nearest first, with the lanes that still meet its box before t_max; then none is
+    // left, for the next leaf.
+    template <typename Enter>
+    void enter_nearest_first(const vfloat4& t_max, Enter&& enter) {
+        for (int i = 0; i < count_; ++i) {
+            vbool4 lanes = vbool4{met_[i].hit} & (vfloat4(met_[i].near) <= t_max);
+            if (any(lanes)) {
+                enter(met_[i].index, lanes);
+            }
+        }
+        count_ = 0;
+    }
+
+private:
+    struct Met {
+        __m128 near, hit;  // trivial, as PacketPending's: no zeroing of the array on every leaf
+        float least_near;
+        std::uint32_t index;
+    };
+    Met met_[capacity];
+    int count_ = 0;
+};
 
 // Calls visit(span, id, transmission, list) for every primitive of a BVH leaf that some ray of the packet meets
 // (as for_each_span), visit_triangle(crossing, place) for every triangle (its place in scene.triangles) and

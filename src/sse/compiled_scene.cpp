@@ -388,12 +388,15 @@ private:
     CompiledShape compile_shape(const scene::MeshData& data, const scene::Bounds& box) const {
         CompiledShape shape;
         const scene::Vec3 center = (box.low + box.high) * 0.5;
-        shape.center = Vec3(center);
+        const Vec3 rounded_center(center);
+        Vec3 half_extent;
         for (int axis = 0; axis < 3; ++axis) {
-            shape.half_extent[axis] =
+            half_extent[axis] =
                 math::rounded_up<float>((box.high[axis] - box.low[axis]) * 0.5 +
-                                        std::abs(center[axis] - static_cast<double>(shape.center[axis])));
+                                        std::abs(center[axis] - static_cast<double>(rounded_center[axis])));
         }
+        shape.center = {rounded_center.x, rounded_center.y, rounded_center.z, 0.0f};
+        shape.half_extent = {half_extent.x, half_extent.y, half_extent.z, 0.0f};
         if (data.smooth) {
             for (const scene::Vec3& normal : data.normals) {
                 shape.mesh.normals.push_back(Vec3(normal));
@@ -412,15 +415,19 @@ private:
         const double cost = triangle_test_cost * static_cast<double>(in_file_order.items.size());
         if (accel_ == Accel::none || (accel_ == Accel::automatic && cost <= static_cast<double>(bvh_crossover))) {
             shape.triangles = std::move(in_file_order);
-            return shape;
-        }
-        shape.bvh = build_bvh(std::move(inputs));
-        for (BvhItem& item : shape.bvh.items) {
-            shape.triangles.items.push_back(in_file_order.items[item.index]);
-            if (data.smooth) {
-                shape.triangles.corners.push_back(in_file_order.corners[item.index]);
+        } else {
+            shape.bvh = build_bvh(std::move(inputs));
+            for (BvhItem& item : shape.bvh.items) {
+                shape.triangles.items.push_back(in_file_order.items[item.index]);
+                if (data.smooth) {
+                    shape.triangles.corners.push_back(in_file_order.corners[item.index]);
+                }
+                item.index = static_cast<std::uint32_t>(shape.triangles.items.size() - 1);
             }
-            item.index = static_cast<std::uint32_t>(shape.triangles.items.size() - 1);
+        }
+        shape.frames.reserve(shape.triangles.items.size());
+        for (const TriangleRecord& triangle : shape.triangles.items) {
+            shape.frames.push_back(frame_of(triangle));
         }
         return shape;
     }

@@ -117,10 +117,13 @@ struct CompiledMesh {
 // A mesh shape (scene::MeshShape) compiled once for all its instances, in its own space: its triangles (their
 // records' leaf is -1: an instance names the hit), in the order of its own BVH's leaves where it has one, and its
 // normals, if smooth (then its triangles' corners too). Its vertex box as a centre and a half extent (rounded up to
-// hold the double box), from which a walk finds an instance's box in the world (instance_box_met).
+// hold the double box), from which a walk finds an instance's box in the world (instance_box), each one load.
 struct CompiledShape {
-    Vec3 center, half_extent;
+    Packed4 center, half_extent;  // w = 0
     TriangleList triangles;
+    // Each triangle's unit normal and longest edge, by place as `triangles`: made once for all the instances' hits
+    // (16 bytes a triangle of a shape, none for a scene's own meshes).
+    LargeArray<TriangleFrame> frames;
     Bvh bvh;
     CompiledMesh mesh;
 };

@@ -212,19 +212,6 @@ public:
             const TriangleRecord& record = scene_.triangles.items[place];
             keep_nearest_triangle(nearest, crossing, record.leaf, record.triangle, place, -1);
         };
-        // An instance's crossings enter where the placed triangle's front faces the ray: its shape's front, unless
-        // the transform mirrors.
-        auto keep_instance = [&](const BvhRays& box_rays, std::uint32_t index) {
-            const InstanceRecord& instance = scene_.instances[index];
-            const TriangleList& triangles = scene_.shapes[instance.shape].triangles;
-            vbool4 lanes = rays.active;
-            for_each_instance_crossing<P>(
-                scene_, instance, rays, box_rays, lanes, nearest.t, [&](TriangleHit4 crossing, std::uint32_t place) {
-                    crossing.front = instance.mirrors ? !crossing.front : crossing.front;
-                    keep_nearest_triangle(nearest, crossing, instance.leaf, triangles.items[place].triangle, place,
-                                          static_cast<std::int32_t>(index));
-                });
-        };
         CsgCandidates csg;
         if (!scene_.bvh.empty()) {
             auto keep_and_fetch = [&](const Span4& span, std::int32_t leaf, float transmission, std::uint32_t list) {
@@ -234,9 +221,14 @@ public:
             csg.collect();
             vbool4 lanes = rays.active;
             const BvhRays box_rays(rays);
+            InstancesByDistance instances;
             for_each_leaf_met(scene_.bvh, box_rays, lanes, nearest.t, [&](BvhLeaf leaf) {
-                for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, keep_and_fetch, keep_triangle,
-                                         [&](std::uint32_t index) { keep_instance(box_rays, index); });
+                for_each_span_in_leaf<P>(
+                    scene_, leaf, rays, sheared, csg, keep_and_fetch, keep_triangle,
+                    [&](std::uint32_t index) { meet_instance(rays, box_rays, index, nearest, &instances); });
+                if (!instances.empty()) {
+                    enter_nearest_first(rays, nearest, instances);
+                }
             });
         } else {
             if (sheared) {
@@ -245,7 +237,7 @@ public:
             if (!scene_.instances.empty()) {
                 const BvhRays box_rays(rays);
                 for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
-                    keep_instance(box_rays, i);
+                    meet_instance(rays, box_rays, i, nearest, nullptr);
                 }
             }
         }
@@ -361,6 +353,37 @@ public:
     }
 
 private:
+    // The instance at `index` behind its box: entered now, or added to `deferred` (a BVH leaf's instances, entered
+    // nearest first once the leaf's other items are tested). Out of line, as is the entering: inlined, they made
+    // intersect() and its leaf loop larger for every scene, and scenes without instances paid for it.
+    __attribute__((noinline)) void meet_instance(const RayPacket& rays, const BvhRays& box_rays, std::uint32_t index,
+                                                 Nearest4& nearest, InstancesByDistance* deferred) const {
+        const InstanceRecord& instance = scene_.instances[index];
+        NodeTest box = test_instance_box(scene_.shapes[instance.shape], instance, box_rays, rays.active, nearest.t);
+        if (any(box.hit) && (deferred == nullptr || !deferred->add(index, box))) {
+            keep_crossings_inside(rays, index, box.hit, nearest);
+        }
+    }
+
+    __attribute__((noinline)) void enter_nearest_first(const RayPacket& rays, Nearest4& nearest,
+                                                       InstancesByDistance& instances) const {
+        instances.enter_nearest_first(
+            nearest.t, [&](std::uint32_t index, vbool4 lanes) { keep_crossings_inside(rays, index, lanes, nearest); });
+    }
+
+    // The crossings of the instance at `index` for `lanes`, which meet its box. They enter where the placed
+    // triangle's front faces the ray: its shape's front, unless the transform mirrors.
+    void keep_crossings_inside(const RayPacket& rays, std::uint32_t index, vbool4 lanes, Nearest4& nearest) const {
+        const InstanceRecord& instance = scene_.instances[index];
+        const TriangleList& triangles = scene_.shapes[instance.shape].triangles;
+        for_each_crossing_inside<P>(
+            scene_, instance, rays, lanes, nearest.t, [&](TriangleHit4 crossing, std::uint32_t place) {
+                crossing.front = instance.mirrors ? !crossing.front : crossing.front;
+                keep_nearest_triangle(nearest, crossing, instance.leaf, triangles.items[place].triangle, place,
+                                      static_cast<std::int32_t>(index));
+            });
+    }
+
     // finish() reads the Leaf of each lane's nearest hit, which is in file order while a BVH's walk visits
     // primitives in leaf order: at a million primitives a cache miss per lane, a fifth of the first hits'
     // time, unless it is fetched while the walk goes on. Every primitive a ray meets may end up its nearest.
@@ -488,11 +511,10 @@ private:
     // (scene::transformed_spawn_offset).
     LaneSurface instance_surface(const InstanceRecord& instance, std::uint32_t place, bool entering, Vec3 point) const {
         const math::Transform<float>& m = instance.to_world;
-        const TriangleRecord& t = scene_.shapes[instance.shape].triangles.items[place];
-        auto length = [](Vec3 v) { return std::sqrt(math::dot(v, v)); };
-        Vec3 n = math::cross(t.b - t.a, t.c - t.a);
-        Vec3 normal = n / length(n);
-        float longest = std::max(length(t.b - t.a), std::max(length(t.c - t.b), length(t.a - t.c)));
+        const CompiledShape& shape = scene_.shapes[instance.shape];
+        const TriangleRecord& t = shape.triangles.items[place];
+        const Vec3 normal = shape.frames[place].normal;
+        const float longest = shape.frames[place].longest_edge;
         math::SurfaceBounds<float> bounds = scene::surface_bounds_of_triangle(1.0f);
         Vec3 object_point = m.point_to_object(point);
         Vec3 anchor = object_point + math::dot(t.a - object_point, normal) * normal;

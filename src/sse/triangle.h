@@ -10,7 +10,9 @@
 #include "sse/mutation.h"
 #include "sse/span4.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 namespace twinray::sse {
@@ -32,6 +34,20 @@ inline TriangleRecord make_triangle(const scene::MeshData& mesh, std::uint32_t t
     const std::array<std::uint32_t, 3>& corners = mesh.triangles[triangle];
     return {Vec3(mesh.vertices[corners[0]]), Vec3(mesh.vertices[corners[1]]), Vec3(mesh.vertices[corners[2]]), leaf,
             triangle};
+}
+
+// What a hit's surface needs of the triangle alone, in its own space: its unit normal, n = (b − a) × (c − a) over
+// |n|, and its longest edge, which scales its rounding bounds (scene::surface_bounds_of_triangle). The same float
+// expressions as triangle_surfaces' lanes.
+struct TriangleFrame {
+    Vec3 normal;
+    float longest_edge;
+};
+
+inline TriangleFrame frame_of(const TriangleRecord& t) {
+    auto length = [](Vec3 v) { return std::sqrt(math::dot(v, v)); };
+    Vec3 n = math::cross(t.b - t.a, t.c - t.a);
+    return {n / length(n), std::max(length(t.b - t.a), std::max(length(t.c - t.b), length(t.a - t.c)))};
 }
 
 // What the test needs of each ray, once per packet: its origin, the axis kz of its direction's largest
