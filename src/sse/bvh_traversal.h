@@ -356,7 +356,8 @@ void for_each_instance_crossing(const CompiledScene& scene, const InstanceRecord
 // A BVH leaf's instances whose boxes a packet met, entered nearest box first, each only if a lane still meets its box
 // before that lane's t_max: a nearer tree's hit then culls the trees behind it. For nearest hits, whose answer does
 // not depend on the order crossings are met in (keep_nearest); a shadow multiplies its factors in list order and
-// keeps the leaf's. More than `capacity` (a leaf of the halving splits near the depth limit): the rest entered at once.
+// keeps the leaf's. Past `capacity` (the BVH's most items a leaf, bvh.cpp, save a leaf of items whose centroids
+// coincide, which no split separates) the rest are entered at once, unordered.
 class InstancesByDistance {
 public:
     static constexpr int capacity = 8;

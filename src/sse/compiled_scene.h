@@ -117,7 +117,7 @@ struct CompiledMesh {
 // A mesh shape (scene::MeshShape) compiled once for all its instances, in its own space: its triangles (their
 // records' leaf is -1: an instance names the hit), in the order of its own BVH's leaves where it has one, and its
 // normals, if smooth (then its triangles' corners too). Its vertex box as a centre and a half extent (rounded up to
-// hold the double box), from which a walk finds an instance's box in the world (instance_box), each one load.
+// hold the double box), from which a walk finds an instance's box in the world (test_instance_box), each one load.
 struct CompiledShape {
     Packed4 center, half_extent;  // w = 0
     TriangleList triangles;
