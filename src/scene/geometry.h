@@ -303,18 +303,19 @@ private:
 };
 // How far off a transformed primitive's surface its secondary rays start: the object-space offset
 // `object_offset` of the re-projected point p'ₒ (|p'ₒ|∞ = `object_point`), carried to the world point p'_w
-// (|p'_w|∞ = `world_point`). reference/transformed.h derives it.
-template <typename T>
+// (|p'_w|∞ = `world_point`). reference/transformed.h derives it. T is the precision S or, for several hits at once
+// (the SSE tracer's four lanes), a vector of it: each lane rounds as S alone would.
+template <typename T, typename S = T>
 T transformed_spawn_offset(const TransformNorms<T>& n, T object_offset, T object_point, T world_point) {
-    using math::rounding_bound;
-    constexpr T root3 = T(1.7320509);  // √3 rounded up: |v|₂ ≤ √3·|v|∞
-    T back = rounding_bound<T>(4) * (n.rows * object_point + n.translation) + rounding_bound<T>(2) * world_point;
-    T forward = rounding_bound<T>(5) * n.inverse_rows * (world_point + n.translation);
+    auto gamma = [](int count) { return T(math::rounding_bound<S>(count)); };
+    const T root3 = T(S(1.7320509));  // √3 rounded up: |v|₂ ≤ √3·|v|∞
+    T back = gamma(4) * (n.rows * object_point + n.translation) + gamma(2) * world_point;
+    T forward = gamma(5) * n.inverse_rows * (world_point + n.translation);
     // The next origin is p'_w + δ·n̂, so the forward rounding grows with δ too: δ = A + B·δ, δ = A/(1 − B), and
     // B ≤ √3·γ(5)·κ stays below 0.06 in float at the condition limit.
     T fixed = n.stretch * (object_offset + root3 * (forward + n.shrink * back));
-    T growth = n.stretch * root3 * rounding_bound<T>(5) * n.inverse_rows;
-    return (T(1) + rounding_bound<T>(8)) * fixed / (T(1) - growth);
+    T growth = n.stretch * root3 * gamma(5) * n.inverse_rows;
+    return (T(1) + gamma(8)) * fixed / (T(1) - growth);
 }
 
 // Mesh -------------------------------------------------------------------------------------------------

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -482,11 +483,11 @@ private:
             record[lane] = &scene_.triangles.items[static_cast<std::size_t>(place[from])];
         }
         // Each vertex's x, y, z and the next 4 bytes of the record (its next vertex, or its leaf), transposed.
-        auto gather = [&](auto member) {
-            __m128 v0 = _mm_loadu_ps(&(record[0]->*member).x), v1 = _mm_loadu_ps(&(record[1]->*member).x);
-            __m128 v2 = _mm_loadu_ps(&(record[2]->*member).x), v3 = _mm_loadu_ps(&(record[3]->*member).x);
-            _MM_TRANSPOSE4_PS(v0, v1, v2, v3);
-            return Vec3x4{vfloat4(v0), vfloat4(v1), vfloat4(v2)};
+        auto gather = [&](Vec3 TriangleRecord::*vertex) {
+            const float* at[4] = {&(record[0]->*vertex).x, &(record[1]->*vertex).x, &(record[2]->*vertex).x,
+                                  &(record[3]->*vertex).x};
+            const Transposed4 columns = load_transposed(at);
+            return Vec3x4{columns.column[0], columns.column[1], columns.column[2]};
         };
         Vec3x4 a = gather(&TriangleRecord::a), b = gather(&TriangleRecord::b), c = gather(&TriangleRecord::c);
         auto length = [](const Vec3x4& v) { return sqrt(math::dot(v, v)); };
@@ -504,37 +505,81 @@ private:
         return out;
     }
 
-    // An instance's hit in one lane (the triangle at `place` in its shape): triangle_surfaces' rule in object space,
-    // in scalar, carried through the transform as transformed.h's surface_anchor carries a primitive's: the normal
-    // of the side the ray met through the inverse transpose (not yet unit), the point re-projected in object space
-    // and carried back as the anchor itself (radius 0, no own rounding), the spawn offset carried through both trips
-    // (scene::transformed_spawn_offset).
-    LaneSurface instance_surface(const InstanceRecord& instance, std::uint32_t place, bool entering, Vec3 point) const {
-        const math::Transform<float>& m = instance.to_world;
-        const CompiledShape& shape = scene_.shapes[instance.shape];
-        const TriangleRecord& t = shape.triangles.items[place];
-        const Vec3 normal = shape.frames[place].normal;
-        const float longest = shape.frames[place].longest_edge;
-        math::SurfaceBounds<float> bounds = scene::surface_bounds_of_triangle(1.0f);
-        Vec3 object_point = m.point_to_object(point);
-        Vec3 anchor = object_point + math::dot(t.a - object_point, normal) * normal;
-        float own_rounding = bounds.own_rounding.size * longest +
-                             bounds.own_rounding.point_factor * math::max_abs_component(object_point);
-        Vec3 projected = std::fabs(math::dot(normal, object_point - anchor)) > own_rounding ? anchor : object_point;
-        Vec3 world = projected == object_point ? point : m.point_to_world(projected);
-        float extent = math::max_abs_component(projected);
-        float object_offset = bounds.spawn_offset.size * longest + bounds.spawn_offset.point_factor * extent;
-        LaneSurface out;
-        bool front = entering != instance.mirrors;
-        out.outward = mutated<Mutant::transformed_normal_through_matrix> ? m.linear * (front ? normal : -normal)
-                                                                         : m.normal_to_world(front ? normal : -normal);
-        out.needs_normalizing = true;
-        out.anchor = {
-            world,
-            0.0f,
-            0.0f,
-            {scene::transformed_spawn_offset(instance.norms, object_offset, extent, math::max_abs_component(world)),
-             0.0f}};
+    // The hits of the lanes of `lanes` on instances (lane i on instance[i], the triangle at place[i] in its shape),
+    // four at once: triangle_surfaces' rule in object space, carried through each lane's own transform as
+    // transformed.h's surface_anchor carries a primitive's: the normal of the side the ray met through the inverse
+    // transpose (not yet unit), the point re-projected in object space and carried back as the anchor itself (radius
+    // 0, no own rounding), the spawn offset carried through both trips (scene::transformed_spawn_offset). The scalar
+    // rule's operations lane by lane, so each lane rounds as one hit alone would. Lanes outside `lanes` repeat a hit
+    // lane's instance and are not read.
+    struct InstanceSurfaces4 {
+        Vec3x4 outward, anchor;
+        vfloat4 spawn_offset;
+    };
+
+    InstanceSurfaces4 instance_surfaces(const std::int32_t instance[4], const std::int32_t place[4], int lanes,
+                                        vbool4 entering, const Vec3x4& point) const {
+        const InstanceRecord* record[4];
+        const float *frame[4], *vertex[4];
+        int mirrors = 0;
+        const int first = __builtin_ctz(static_cast<unsigned>(lanes));
+        for (int lane = 0; lane < 4; ++lane) {
+            const int from = ((lanes >> lane) & 1) != 0 ? lane : first;
+            record[lane] = &scene_.instances[static_cast<std::size_t>(instance[from])];
+            const CompiledShape& shape = scene_.shapes[record[lane]->shape];
+            const auto at = static_cast<std::size_t>(place[from]);
+            frame[lane] = &shape.frames[at].normal.x;
+            vertex[lane] = &shape.triangles.items[at].a.x;
+            mirrors |= record[lane]->mirrors ? 1 << lane : 0;
+        }
+        // Each record's L, L⁻¹, t and norms are its first 26 floats: read four at a time into lanes.
+        static_assert(sizeof(math::Transform<float>) == 21 * sizeof(float) &&
+                      offsetof(InstanceRecord, norms) == sizeof(math::Transform<float>) &&
+                      sizeof(scene::TransformNorms<float>) == 5 * sizeof(float) && sizeof(InstanceRecord) >= 28 * 4);
+        vfloat4 column[28];
+        for (int block = 0; block < 7; ++block) {
+            const float* at[4];
+            for (int lane = 0; lane < 4; ++lane) {
+                at[lane] = reinterpret_cast<const float*>(record[lane]) + 4 * block;
+            }
+            const Transposed4 columns = load_transposed(at);
+            for (int k = 0; k < 4; ++k) {
+                column[4 * block + k] = columns.column[k];
+            }
+        }
+        math::Transform<vfloat4> m;
+        for (int row = 0; row < 3; ++row) {
+            m.linear.row[row] = {column[3 * row], column[3 * row + 1], column[3 * row + 2]};
+            m.inverse.row[row] = {column[9 + 3 * row], column[10 + 3 * row], column[11 + 3 * row]};
+        }
+        m.translation = {column[18], column[19], column[20]};
+        const scene::TransformNorms<vfloat4> norms{column[21], column[22], column[23], column[24], column[25]};
+        const Transposed4 frames = load_transposed(frame), vertices = load_transposed(vertex);
+        const Vec3x4 normal{frames.column[0], frames.column[1], frames.column[2]};
+        const vfloat4 longest = frames.column[3];
+        const Vec3x4 a{vertices.column[0], vertices.column[1], vertices.column[2]};
+
+        const math::SurfaceBounds<float> bounds = scene::surface_bounds_of_triangle(1.0f);
+        const Vec3x4 object_point = m.point_to_object(point);
+        const Vec3x4 anchor = object_point + math::dot(a - object_point, normal) * normal;
+        const vfloat4 own_rounding = vfloat4(bounds.own_rounding.size) * longest +
+                                     vfloat4(bounds.own_rounding.point_factor) * max_abs_component(object_point);
+        const Vec3x4 projected =
+            select(abs(math::dot(normal, object_point - anchor)) > own_rounding, anchor, object_point);
+        const vbool4 unmoved =
+            (projected.x == object_point.x) & (projected.y == object_point.y) & (projected.z == object_point.z);
+        const Vec3x4 world = select(unmoved, point, m.point_to_world(projected));
+        const vfloat4 extent = max_abs_component(projected);
+        const vfloat4 object_offset =
+            vfloat4(bounds.spawn_offset.size) * longest + vfloat4(bounds.spawn_offset.point_factor) * extent;
+        const vbool4 mirrored = lanes_of(mirrors);
+        const vbool4 front = select_mask(mirrored, !entering, entering);
+        const Vec3x4 side = select(front, normal, -normal);
+        InstanceSurfaces4 out;
+        out.outward = mutated<Mutant::transformed_normal_through_matrix> ? m.linear * side : m.normal_to_world(side);
+        out.anchor = world;
+        out.spawn_offset =
+            scene::transformed_spawn_offset<vfloat4, float>(norms, object_offset, extent, max_abs_component(world));
         return out;
     }
 
@@ -593,11 +638,10 @@ private:
         nearest.place.store(place);
         alignas(16) std::int32_t instance[4];
         nearest.instance.store(instance);
-        const int entering_lanes = movemask(hit.entering);
         int lanes = movemask(hit.hit);
         const CompiledMesh* smooth[4] = {};
         const InstanceRecord* smooth_instance[4] = {};
-        int triangle_lanes = 0;
+        int triangle_lanes = 0, instance_lanes = 0;
         for (int lane = 0; lane < 4; ++lane) {
             LaneSurface surface;
             if ((lanes >> lane) & 1) {
@@ -607,9 +651,9 @@ private:
                     const InstanceRecord& record = scene_.instances[static_cast<std::size_t>(instance[lane])];
                     const auto at = static_cast<std::uint32_t>(place[lane]);
                     const CompiledShape& shape = scene_.shapes[record.shape];
+                    instance_lanes |= 1 << lane;
                     triangle[lane] = static_cast<std::int32_t>(shape.triangles.items[at].triangle);
                     material[lane] = record.material;
-                    surface = instance_surface(record, at, ((entering_lanes >> lane) & 1) != 0, lane_point);
                     smooth_instance[lane] = shape.mesh.normals.empty() ? nullptr : &record;
                 } else {
                     const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf[lane])];
@@ -650,7 +694,17 @@ private:
             size_bounds = select(on_triangle, triangles.size_bound, size_bounds);
             point_factors = select(on_triangle, triangles.point_factor, point_factors);
         }
-        vbool4 normalize_lanes{_mm_castsi128_ps(vint4::load(curved).m)};
+        if (instance_lanes != 0) {
+            InstanceSurfaces4 instances = instance_surfaces(instance, place, instance_lanes, hit.entering, hit.point);
+            vbool4 on_instance = lanes_of(instance_lanes);
+            outward = select(on_instance, instances.outward, outward);
+            anchors = select(on_instance, instances.anchor, anchors);
+            radii = select(on_instance, vfloat4(0.0f), radii);
+            own_roundings = select(on_instance, vfloat4(0.0f), own_roundings);
+            size_bounds = select(on_instance, instances.spawn_offset, size_bounds);
+            point_factors = select(on_instance, vfloat4(0.0f), point_factors);
+        }
+        vbool4 normalize_lanes = vbool4{_mm_castsi128_ps(vint4::load(curved).m)} | lanes_of(instance_lanes);
         if (any(normalize_lanes)) {
             // As the reference's radial_normal: a radial vector of exactly zero (a primitive smaller than
             // the ulp where it stands) has no direction; the ray's reverse stands in for it, not a NaN.

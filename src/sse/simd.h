@@ -203,6 +203,17 @@ inline Vec3x4 abs(const Vec3x4& a) {
 inline vfloat4 max_abs_component(const Vec3x4& a) {
     return max(abs(a.x), max(abs(a.y), abs(a.z)));
 }
+// Four floats from each of four records (unaligned), transposed: lane i of vector k is at[i][k]. How a field of
+// four records, one per lane, is read into lanes.
+struct Transposed4 {
+    vfloat4 column[4];
+};
+inline Transposed4 load_transposed(const float* const at[4]) {
+    __m128 v0 = _mm_loadu_ps(at[0]), v1 = _mm_loadu_ps(at[1]), v2 = _mm_loadu_ps(at[2]), v3 = _mm_loadu_ps(at[3]);
+    _MM_TRANSPOSE4_PS(v0, v1, v2, v3);
+    return {{vfloat4(v0), vfloat4(v1), vfloat4(v2), vfloat4(v3)}};
+}
+
 // Lane `i` of each component, as a scalar vector.
 inline math::Vec3<float> lane(const Vec3x4& v, int i) {
     return {v.x.lane(i), v.y.lane(i), v.z.lane(i)};
