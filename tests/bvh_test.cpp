@@ -502,6 +502,68 @@ TEST_F(Bvh, TriangleTransmissionsMultiplyInFileOrderNotLeafOrder) {
     }
 }
 
+// The same for instances: one glass triangle declared once as a shape and placed along the shadow ray, each instance
+// a glass of its own, file order scattered along the ray. Below the factors' capacity they multiply sorted by leaf,
+// above it the fallback walks the instances' records in file order (their boxes are in leaf order); both must give
+// brute force's product bit for bit, and leaf order's own product must differ (lest the test prove nothing).
+TEST_F(Bvh, InstanceTransmissionsMultiplyInFileOrderNotLeafOrder) {
+    using namespace twinray::sse;
+    const twinray::Vec3d floor(0, -12, 0), light(-20, 30, 20);
+    const twinray::Vec3d along = (1.0 / std::sqrt(twinray::math::dot(light - floor, light - floor))) * (light - floor);
+    const twinray::Vec3d side = twinray::math::normalize(twinray::math::cross(along, twinray::Vec3d(0, 0, 1)));
+    const twinray::Vec3d up = twinray::math::cross(side, along);
+    const char* glasses[] = {"glass93", "glass81", "glass97"};
+    for (std::size_t count : {std::size_t{96}, std::size_t{150}}) {
+        std::string text = three_glasses_over_a_floor;
+        const std::string shapes = "\"shapes\": {\"pane\": {\"type\": \"mesh\", \"vertices\": [" +
+                                   json::vec3(-0.3 * side - 0.3 * up) + ", " + json::vec3(0.3 * side - 0.3 * up) +
+                                   ", " + json::vec3(0.6 * up) + "], \"triangles\": [[0, 1, 2]]}},\n  ";
+        text.insert(text.find("\"objects\""), shapes);
+        std::vector<twinray::Vec3d> places;
+        for (std::size_t i = 0; i < count; ++i) {
+            std::size_t k = 1 + (i * 61) % count;  // 61 is prime to 96 and to 150: every place once
+            places.push_back(floor + (static_cast<double>(k) / static_cast<double>(count + 1)) * (light - floor));
+            text += ",\n{\"type\": \"instance\", \"shape\": \"pane\", \"material\": \"" + std::string(glasses[i % 3]) +
+                    "\", \"transform\": [{\"translate\": " + json::vec3(places.back()) + "}]}";
+        }
+        Scene scene = twinray::scene::parse_scene(text + "]}", "bvh_test");
+        CompiledScene brute = compile(scene, Accel::none);
+        CompiledScene bvh = compile(scene, Accel::bvh);
+        ASSERT_FALSE(bvh.bvh.empty());
+        ASSERT_EQ(bvh.origin, (twinray::scene::Vec3{0, 0, 0}));
+        ASSERT_EQ(bvh.instances.size(), count);
+        const bool over = count > static_cast<std::size_t>(TransmissionFactors::capacity);
+        const std::string name = std::to_string(count) + " glass instances";
+
+        Fallbacks fallbacks;
+        Vec3x4 origins = packet_around({0, -11.999f, 0}, {0, 1, 0}).origin;
+        vbool4 lanes = packet_around({0, 0, 0}, {0, 1, 0}).active;
+        vfloat4 brute_shadow = ShadowTransmittance<ExactPrecision>(brute)(origins, Vec3(light), lanes);
+        vfloat4 bvh_shadow = ShadowTransmittance<ExactPrecision>(bvh)(origins, Vec3(light), lanes, &fallbacks);
+        EXPECT_EQ(fallbacks.transmission_factors, over) << name;
+        EXPECT_TRUE(same_lanes(brute_shadow, bvh_shadow))
+            << name << ": transmittance " << lanes_of(brute_shadow) << " and " << lanes_of(bvh_shadow);
+
+        // Every lane crosses every pane once: the product in file order and in the order of the BVH's leaves.
+        auto transmission = [&](std::uint32_t record) {
+            return static_cast<float>(
+                scene.materials[static_cast<std::size_t>(bvh.instances[record].material)].transmission);
+        };
+        float file_order = 1.0f, leaf_order = 1.0f;
+        for (std::uint32_t record = 0; record < bvh.instances.size(); ++record) {
+            file_order *= transmission(record);
+        }
+        for (const InstanceBox& box : bvh.instance_boxes) {
+            leaf_order *= transmission(box.record);
+        }
+        EXPECT_EQ(file_order, brute_shadow.lane(0)) << name;
+        EXPECT_NE(leaf_order, brute_shadow.lane(0))
+            << name << ": leaf order gives the same product: the test cannot tell the orders apart";
+        std::printf("%s: fell back %s, shadow transmittance %.9g (leaf order's product %.9g)\n", name.c_str(),
+                    over ? "yes" : "no", static_cast<double>(bvh_shadow.lane(0)), static_cast<double>(leaf_order));
+    }
+}
+
 // Ties within a mesh go to the lower triangle index however the BVH orders the triangles: a grid of 512 small
 // triangles at z = 0 under one large one (triangle 0, listed first), rays straight down from z = 4. Every ray
 // meets the large triangle and a small one at exactly t = 4 (the sheared frame's z is 4 for every vertex, a

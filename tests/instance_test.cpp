@@ -241,5 +241,24 @@ TEST_F(ExactInstances, TheBvhOverInstancesRendersAsBruteForceBitForBit) {
     }
 }
 
+// A render that gives up the scene's meshes (the render command's, sse::Tracer::give_up_meshes) finds them empty
+// afterwards and draws the image the tracer draws from a scene it keeps, bit for bit, with its BVH and without.
+TEST_F(ExactInstances, TheSseTracerGivenUpTheMeshesRendersTheSameImage) {
+    if (!sse::cpu_supports_sse41()) {
+        GTEST_SKIP() << sse::missing_sse41_message();
+    }
+    for (Accel accel : {Accel::bvh, Accel::none}) {
+        RenderOptions options;
+        options.threads = 1;
+        options.accel = accel;
+        scene::Scene given = instanced_;
+        const sse::Tracer giving_up(given, sse::Tracer::give_up_meshes, {}, accel);
+        EXPECT_TRUE(given.meshes.empty());
+        EXPECT_EQ(differing_pixels(sse::render(instanced_, options).image, sse::render(giving_up, given, options).image,
+                                   accel == Accel::bvh ? "sse, bvh" : "sse, brute force"),
+                  0);
+    }
+}
+
 }  // namespace
 }  // namespace twinray

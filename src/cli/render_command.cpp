@@ -137,20 +137,38 @@ void print_mesh(const char* label, const std::string& name, const scene::MeshDat
     std::printf("%s\n", placed.c_str());
 }
 
-// Each mesh, each mesh shape once with its count of instances; then what the loader read and does not use.
-void print_meshes(const scene::Scene& scene) {
+// Each mesh, each mesh shape once with its count of instances, as print_mesh prints them: counted before the render,
+// which may give up the scene's meshes (render_giving_up_meshes).
+struct MeshLine {
+    const char* label;
+    std::string name;
+    std::shared_ptr<const scene::MeshData> data;
+    std::string placed;
+};
+
+std::vector<MeshLine> mesh_lines(const scene::Scene& scene) {
+    std::vector<MeshLine> lines;
     std::vector<std::size_t> instances(scene.mesh_shapes.size(), 0);
     for (const scene::Mesh& mesh : scene.meshes) {
         if (mesh.placement) {
             ++instances[static_cast<std::size_t>(mesh.placement->shape)];
         } else {
-            print_mesh("mesh:        ", scene.leaf_paths[static_cast<std::size_t>(mesh.leaf)], *mesh.data, "");
+            lines.push_back({"mesh:        ", scene.leaf_paths[static_cast<std::size_t>(mesh.leaf)], mesh.data, ""});
         }
     }
     for (std::size_t i = 0; i < scene.mesh_shapes.size(); ++i) {
         const std::size_t count = instances[i];
-        print_mesh("shape:       ", scene::key_path("shapes", scene.mesh_shapes[i].name), *scene.mesh_shapes[i].data,
-                   "; placed by " + std::to_string(count) + (count == 1 ? " instance" : " instances"));
+        lines.push_back({"shape:       ", scene::key_path("shapes", scene.mesh_shapes[i].name),
+                         scene.mesh_shapes[i].data,
+                         "; placed by " + std::to_string(count) + (count == 1 ? " instance" : " instances")});
+    }
+    return lines;
+}
+
+// The meshes' lines; then what the loader read and does not use.
+void print_meshes(const std::vector<MeshLine>& lines, const scene::Scene& scene) {
+    for (const MeshLine& line : lines) {
+        print_mesh(line.label, line.name, *line.data, line.placed);
     }
     for (const std::string& warning : scene.warnings) {
         std::fprintf(stderr, "twinray render: warning: %s\n", warning.c_str());
@@ -208,9 +226,10 @@ int run_render(const RenderArguments& arguments) {
             std::fprintf(stderr, "\r              \r");
         }
     };
+    const std::vector<MeshLine> meshes = mesh_lines(scene);
     std::optional<RenderResult> rendered;
     try {
-        rendered.emplace(render_with(arguments.tracer, scene, options, arguments.precision));
+        rendered.emplace(render_giving_up_meshes(arguments.tracer, scene, options, arguments.precision));
         // A Ctrl-C after the last item but before the write still means "stop": nothing is written.
         if (interrupted.load(std::memory_order_relaxed)) {
             throw RenderCancelled();
@@ -247,7 +266,7 @@ int run_render(const RenderArguments& arguments) {
     std::printf("resolution:  %d x %d\n", result.image.width(), result.image.height());
     std::printf("rays traced: %llu\n", static_cast<unsigned long long>(result.tally.rays));
     print_depth_control(scene, arguments.scene_path, result);
-    print_meshes(scene);
+    print_meshes(meshes, scene);
     // As POV-Ray's statistics: loading, building (compiling the scene and its BVH) and writing apart from
     // tracing, since a large mesh takes longer to load and build than to trace; the speed is the trace's.
     std::printf("load time:   %.3f s\n", load_seconds);

@@ -286,37 +286,13 @@ inline RayPacket object_rays(const InstanceRecord& instance, const RayPacket& ra
     return RayPacket(origin, inverse * rays.direction, rays.active);
 }
 
-// The packet against the instance's box in the world: its shape's box carried out (|L|·half extent about L·centre +
-// t) and padded by bvh_padding of its largest |coordinate|, as the BVH pads the boxes it holds (bvh.h), which far
-// exceeds the float rounding of these few sums of products (a few ulps of the same coordinates). A BVH leaf holds
-// several instances and does not keep their boxes: without this test each of them costs the trip into its space and
-// its shape's root test, and a packet of primary rays through a forest of 1 000 trees entered 5.4 instances where 1.2
-// pass it (docs/performance.md). In registers: the rows of L, one load each, transposed into its columns, so that
-// each axis's sum takes its products in the scalar dot product's order, (x + y) + z (DPPS, one instruction a row, is
-// slower for its latency).
-TWINRAY_KERNEL NodeTest test_instance_box(const CompiledShape& shape, const InstanceRecord& instance,
-                                          const BvhRays& world, vbool4 lanes, const vfloat4& t_max) {
-    const math::Matrix3<float>& linear = instance.to_world.linear;
-    // Each row's fourth lane is the record's next float; the transpose moves it to the fourth column, unused.
-    __m128 x = _mm_loadu_ps(&linear.row[0].x), y = _mm_loadu_ps(&linear.row[1].x);
-    __m128 z = _mm_loadu_ps(&linear.row[2].x), unused = _mm_setzero_ps();
-    _MM_TRANSPOSE4_PS(x, y, z, unused);
-    const __m128 sign = _mm_set1_ps(-0.0f);
-    const __m128 c = shape.center.load(), h = shape.half_extent.load();
-    const __m128 t = _mm_blend_ps(_mm_loadu_ps(&instance.to_world.translation.x), _mm_setzero_ps(), 8);
-    const __m128 center =
-        _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(x, spread<0>(c).m), _mm_mul_ps(y, spread<1>(c).m)),
-                              _mm_mul_ps(z, spread<2>(c).m)),
-                   t);
-    const __m128 half = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_andnot_ps(sign, x), spread<0>(h).m),
-                                              _mm_mul_ps(_mm_andnot_ps(sign, y), spread<1>(h).m)),
-                                   _mm_mul_ps(_mm_andnot_ps(sign, z), spread<2>(h).m));
-    const __m128 far = _mm_add_ps(_mm_andnot_ps(sign, center), half);
-    const __m128 reach = _mm_max_ss(_mm_max_ss(far, _mm_movehl_ps(far, far)), _mm_shuffle_ps(far, far, 1));
-    const __m128 pad = _mm_mul_ss(reach, _mm_set_ss(static_cast<float>(bvh_padding)));
-    const __m128 padded = _mm_add_ps(half, _mm_shuffle_ps(pad, pad, 0));
-    return test_box(spread_xyz(_mm_sub_ps(center, padded)), spread_xyz(_mm_add_ps(center, padded)), world, t_max,
-                    lanes);
+// The packet against an instance's box in the world (instance_box). A BVH leaf holds several instances and does not
+// keep their boxes: without this test each of them costs the trip into its space and its shape's root test, and a
+// packet of primary rays through a forest of 1 000 trees entered 5.4 instances where 1.2 pass it
+// (docs/performance.md).
+inline NodeTest test_instance_box(const InstanceBox& box, const BvhRays& world, vbool4 lanes, const vfloat4& t_max) {
+    // Each load's fourth lane is the record's next float, unused.
+    return test_box(spread_xyz(_mm_loadu_ps(box.low)), spread_xyz(_mm_loadu_ps(box.high)), world, t_max, lanes);
 }
 
 // Calls visit(crossing, place) for every triangle of the instance's shape (`place` in its triangle list) that some
@@ -346,10 +322,10 @@ void for_each_crossing_inside(const CompiledScene& scene, const InstanceRecord& 
 
 // for_each_crossing_inside behind the instance's box. `world`: the packet's own BvhRays.
 template <typename P, typename Visit>
-void for_each_instance_crossing(const CompiledScene& scene, const InstanceRecord& instance, const RayPacket& rays,
+void for_each_instance_crossing(const CompiledScene& scene, const InstanceBox& box, const RayPacket& rays,
                                 const BvhRays& world, vbool4& lanes, const vfloat4& t_max, Visit&& visit) {
-    if (any(test_instance_box(scene.shapes[instance.shape], instance, world, lanes, t_max).hit)) {
-        for_each_crossing_inside<P>(scene, instance, rays, lanes, t_max, std::forward<Visit>(visit));
+    if (any(test_instance_box(box, world, lanes, t_max).hit)) {
+        for_each_crossing_inside<P>(scene, scene.instances[box.record], rays, lanes, t_max, std::forward<Visit>(visit));
     }
 }
 
@@ -404,7 +380,7 @@ private:
 
 // Calls visit(span, id, transmission, list) for every primitive of a BVH leaf that some ray of the packet meets
 // (as for_each_span), visit_triangle(crossing, place) for every triangle (its place in scene.triangles) and
-// visit_instance(index) for every instance (in scene.instances), and adds the leaf's CSG objects to `csg`.
+// visit_instance(box) for every instance (its place in scene.instance_boxes), and adds the leaf's CSG objects to `csg`.
 // `sheared` is the packet's frame for triangles (made, and read, only where the scene has some).
 template <typename P, typename Visit, typename VisitTriangle, typename VisitInstance>
 void for_each_span_in_leaf(const CompiledScene& scene, BvhLeaf leaf, const RayPacket& rays,

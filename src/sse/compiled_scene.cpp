@@ -87,12 +87,13 @@ bool is_finite(const scene::Bounds& bounds) {
 // double, then once to float), so the float records hold small numbers.
 class Compiler {
 public:
-    Compiler(const scene::Scene& scene, Accel accel)
+    Compiler(const scene::Scene& scene, Accel accel, std::vector<scene::Mesh>* given_up)
         : origin_(origin_of(scene)),
           moved_(origin_ == scene::Vec3{0, 0, 0} ? std::nullopt
                                                  : std::optional<scene::Scene>(scene::moved(scene, 1, -origin_))),
           scene_(moved_ ? *moved_ : scene),
-          accel_(accel) {}
+          accel_(accel),
+          given_up_(given_up) {}
 
     CompiledScene run() {
         CompiledScene out(scene_);
@@ -189,13 +190,21 @@ public:
         }
         // After the build, which keeps their order: its arrays and a million records (116 MB) are never held at once.
         add_instances(out, instance_leaves.size());
+        out.any_transparency = scene_.has_transparency();
+        // No mesh is read again: the scene's (136 bytes an instance) go before the boxes come.
+        if (moved_) {
+            std::vector<scene::Mesh>().swap(moved_->meshes);
+        }
+        if (given_up_ != nullptr) {
+            std::vector<scene::Mesh>().swap(*given_up_);
+        }
+        add_instance_boxes(out);
         for (const scene::Light& light : scene_.lights) {
             out.lights.push_back({Vec3(light.position), Color(light.color)});
         }
         out.background = Color(scene_.background);
         out.ambient_light = Color(scene_.ambient_light);
         out.max_depth = scene_.max_depth;
-        out.any_transparency = scene_.has_transparency();
         out.any_inverse_direction = out.primitives.any_uses_inverse_direction() || !out.csg_objects.empty();
         const scene::Camera& camera = scene_.camera;
         out.camera = math::camera_basis(Vec3(camera.eye), Vec3(camera.look_at), Vec3(camera.up), camera.fov_deg,
@@ -383,6 +392,24 @@ private:
         }
     }
 
+    // The instances' boxes in the order a walk meets them: the BVH's leaves, whose items then name their boxes, or
+    // without one the records' own.
+    static void add_instance_boxes(CompiledScene& out) {
+        out.instance_boxes.reserve(out.instances.size());
+        if (out.bvh.empty()) {
+            for (std::uint32_t record = 0; record < out.instances.size(); ++record) {
+                out.instance_boxes.push_back(instance_box(out, record));
+            }
+            return;
+        }
+        for (BvhItem& item : out.bvh.items) {
+            if (item.list == instance_list) {
+                out.instance_boxes.push_back(instance_box(out, item.index));
+                item.index = static_cast<std::uint32_t>(out.instance_boxes.size() - 1);
+            }
+        }
+    }
+
     // A shape's triangles in its own space, with its own BVH where brute force would cost more (as the scene's), its
     // records then in the order of that BVH's leaves.
     CompiledShape compile_shape(const scene::MeshData& data, const scene::Bounds& box) const {
@@ -470,6 +497,7 @@ private:
     std::optional<scene::Scene> moved_;
     const scene::Scene& scene_;
     Accel accel_;
+    std::vector<scene::Mesh>* given_up_;  // compile()'s
 };
 
 }  // namespace
@@ -508,8 +536,38 @@ scene::Vec3 origin_of(const scene::Scene& scene) {
     return around_eye < around_world_origin ? eye : scene::Vec3{0, 0, 0};
 }
 
-CompiledScene compile(const scene::Scene& scene, Accel accel) {
-    return Compiler(scene, accel).run();
+CompiledScene compile(const scene::Scene& scene, Accel accel, std::vector<scene::Mesh>* given_up) {
+    return Compiler(scene, accel, given_up).run();
+}
+
+// In registers: the rows of L, one load each, transposed into its columns, so that each axis's sum takes its products
+// in the scalar dot product's order, (x + y) + z.
+InstanceBox instance_box(const CompiledScene& scene, std::uint32_t record) {
+    const InstanceRecord& instance = scene.instances[record];
+    const CompiledShape& shape = scene.shapes[instance.shape];
+    const math::Matrix3<float>& linear = instance.to_world.linear;
+    // Each row's fourth lane is the record's next float; the transpose moves it to the fourth column, unused.
+    __m128 x = _mm_loadu_ps(&linear.row[0].x), y = _mm_loadu_ps(&linear.row[1].x);
+    __m128 z = _mm_loadu_ps(&linear.row[2].x), unused = _mm_setzero_ps();
+    _MM_TRANSPOSE4_PS(x, y, z, unused);
+    const __m128 sign = _mm_set1_ps(-0.0f);
+    const __m128 c = shape.center.load(), h = shape.half_extent.load();
+    const __m128 t = _mm_blend_ps(_mm_loadu_ps(&instance.to_world.translation.x), _mm_setzero_ps(), 8);
+    const __m128 center =
+        _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(x, spread<0>(c).m), _mm_mul_ps(y, spread<1>(c).m)),
+                              _mm_mul_ps(z, spread<2>(c).m)),
+                   t);
+    const __m128 half = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_andnot_ps(sign, x), spread<0>(h).m),
+                                              _mm_mul_ps(_mm_andnot_ps(sign, y), spread<1>(h).m)),
+                                   _mm_mul_ps(_mm_andnot_ps(sign, z), spread<2>(h).m));
+    const __m128 far = _mm_add_ps(_mm_andnot_ps(sign, center), half);
+    const __m128 reach = _mm_max_ss(_mm_max_ss(far, _mm_movehl_ps(far, far)), _mm_shuffle_ps(far, far, 1));
+    const __m128 pad = _mm_mul_ss(reach, _mm_set_ss(static_cast<float>(bvh_padding)));
+    const __m128 padded = _mm_add_ps(half, _mm_shuffle_ps(pad, pad, 0));
+    alignas(16) float low[4], high[4];
+    _mm_store_ps(low, _mm_sub_ps(center, padded));
+    _mm_store_ps(high, _mm_add_ps(center, padded));
+    return {{low[0], low[1], low[2]}, {high[0], high[1], high[2]}, record};
 }
 
 }  // namespace twinray::sse

@@ -117,7 +117,7 @@ struct CompiledMesh {
 // A mesh shape (scene::MeshShape) compiled once for all its instances, in its own space: its triangles (their
 // records' leaf is -1: an instance names the hit), in the order of its own BVH's leaves where it has one, and its
 // normals, if smooth (then its triangles' corners too). Its vertex box as a centre and a half extent (rounded up to
-// hold the double box), from which a walk finds an instance's box in the world (test_instance_box), each one load.
+// hold the double box), from which an instance's box in the world is made (instance_box).
 struct CompiledShape {
     Packed4 center, half_extent;  // w = 0
     TriangleList triangles;
@@ -140,6 +140,16 @@ struct InstanceRecord {
     bool mirrors;  // det L < 0: a triangle's front turns (scene.h)
 };
 static_assert(sizeof(InstanceRecord) == 120, "docs/sse-tracer.md states an instance's bytes");
+
+// An instance's box in the world and its record (an index into CompiledScene::instances): what a walk tests before it
+// carries a packet into the instance (test_instance_box). Made once (instance_box), and kept apart from the records
+// in the order the walk meets them, so that a leaf's instances are tested from consecutive bytes and a record is read
+// only where a ray enters its box. 28 bytes.
+struct InstanceBox {
+    float low[3];
+    float high[3];
+    std::uint32_t record;
+};
 
 // One list per primitive type, in the order of scene::PrimitiveTypes.
 struct PrimitiveLists {
@@ -288,6 +298,9 @@ struct CompiledScene {
     std::vector<CompiledShape> shapes;
     // In file order; found through the BVH where there is one, else each tested by every ray after the triangles.
     LargeArray<InstanceRecord> instances;
+    // One per instance: with a BVH in the order of its leaves (an instance's BvhItem::index is its place here), else
+    // in file order.
+    LargeArray<InstanceBox> instance_boxes;
     // With a BVH (its nodes not empty), the bounded primitives and CSG objects are found through it and only
     // the rest (planes, unbounded CSG objects) are tested by every ray.
     Bvh bvh;
@@ -313,6 +326,13 @@ struct CompiledScene {
 };
 
 // `accel`: automatic builds a BVH where brute force would cost more than bvh_crossover sphere tests (tracer.h).
-CompiledScene compile(const scene::Scene& scene, Accel accel = Accel::automatic);
+// `given_up`, if given, is `scene`'s meshes, emptied once compiled, before the instances' boxes are made.
+CompiledScene compile(const scene::Scene& scene, Accel accel = Accel::automatic,
+                      std::vector<scene::Mesh>* given_up = nullptr);
+
+// The instance `record`'s box in the world: its shape's box carried out (|L|·half extent about L·centre + t) and
+// padded by bvh_padding of its largest |coordinate|, as the BVH pads the boxes it holds (bvh.h), which far exceeds the
+// float rounding of these few sums of products (a few ulps of the same coordinates).
+InstanceBox instance_box(const CompiledScene& scene, std::uint32_t record);
 
 }  // namespace twinray::sse

@@ -226,7 +226,7 @@ public:
             for_each_leaf_met(scene_.bvh, box_rays, lanes, nearest.t, [&](BvhLeaf leaf) {
                 for_each_span_in_leaf<P>(
                     scene_, leaf, rays, sheared, csg, keep_and_fetch, keep_triangle,
-                    [&](std::uint32_t index) { meet_instance(rays, box_rays, index, nearest, &instances); });
+                    [&](std::uint32_t box_place) { meet_instance(rays, box_rays, box_place, nearest, &instances); });
                 if (!instances.empty()) {
                     enter_nearest_first(rays, nearest, instances);
                 }
@@ -237,7 +237,7 @@ public:
             }
             if (!scene_.instances.empty()) {
                 const BvhRays box_rays(rays);
-                for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
+                for (std::uint32_t i = 0; i < scene_.instance_boxes.size(); ++i) {
                     meet_instance(rays, box_rays, i, nearest, nullptr);
                 }
             }
@@ -293,14 +293,16 @@ public:
             const TriangleRecord& record = scene_.triangles.items[place];
             add_triangle(crossing, record.leaf, record.triangle, place, -1, false);
         };
-        auto add_instance = [&](const BvhRays& box_rays, std::uint32_t index) {
-            const InstanceRecord& instance = scene_.instances[index];
+        auto add_instance = [&](const BvhRays& box_rays, std::uint32_t box_place) {
+            const InstanceBox& box = scene_.instance_boxes[box_place];
+            const InstanceRecord& instance = scene_.instances[box.record];
             const TriangleList& triangles = scene_.shapes[instance.shape].triangles;
             vbool4 lanes = rays.active;
-            for_each_instance_crossing<P>(scene_, instance, rays, box_rays, lanes, vfloat4(distance),
+            for_each_instance_crossing<P>(scene_, box, rays, box_rays, lanes, vfloat4(distance),
                                           [&](const TriangleHit4& crossing, std::uint32_t place) {
                                               add_triangle(crossing, instance.leaf, triangles.items[place].triangle,
-                                                           place, static_cast<std::int32_t>(index), instance.mirrors);
+                                                           place, static_cast<std::int32_t>(box.record),
+                                                           instance.mirrors);
                                           });
         };
         for_each_span<P>(scene_.flat(), rays, add_span);
@@ -312,7 +314,7 @@ public:
             const BvhRays box_rays(rays);
             for_each_leaf_met(scene_.bvh, box_rays, lanes, vfloat4(distance), [&](BvhLeaf leaf) {
                 for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, add_span, add_mesh_triangle,
-                                         [&](std::uint32_t index) { add_instance(box_rays, index); });
+                                         [&](std::uint32_t box_place) { add_instance(box_rays, box_place); });
             });
         } else {
             if (sheared) {
@@ -320,7 +322,7 @@ public:
             }
             if (!scene_.instances.empty()) {
                 const BvhRays box_rays(rays);
-                for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
+                for (std::uint32_t i = 0; i < scene_.instance_boxes.size(); ++i) {
                     add_instance(box_rays, i);
                 }
             }
@@ -354,15 +356,17 @@ public:
     }
 
 private:
-    // The instance at `index` behind its box: entered now, or added to `deferred` (a BVH leaf's instances, entered
-    // nearest first once the leaf's other items are tested). Out of line, as is the entering: inlined, they made
-    // intersect() and its leaf loop larger for every scene, and scenes without instances paid for it.
-    __attribute__((noinline)) void meet_instance(const RayPacket& rays, const BvhRays& box_rays, std::uint32_t index,
-                                                 Nearest4& nearest, InstancesByDistance* deferred) const {
-        const InstanceRecord& instance = scene_.instances[index];
-        NodeTest box = test_instance_box(scene_.shapes[instance.shape], instance, box_rays, rays.active, nearest.t);
-        if (any(box.hit) && (deferred == nullptr || !deferred->add(index, box))) {
-            keep_crossings_inside(rays, index, box.hit, nearest);
+    // The instance whose box is at `box_place` in scene.instance_boxes, behind its box: entered now, or added to
+    // `deferred` (a BVH leaf's instances, entered nearest first once the leaf's other items are tested). Out of line,
+    // as is the entering: inlined, they made intersect() and its leaf loop larger for every scene, and scenes without
+    // instances paid for it.
+    __attribute__((noinline)) void meet_instance(const RayPacket& rays, const BvhRays& box_rays,
+                                                 std::uint32_t box_place, Nearest4& nearest,
+                                                 InstancesByDistance* deferred) const {
+        const InstanceBox& box = scene_.instance_boxes[box_place];
+        NodeTest met = test_instance_box(box, box_rays, rays.active, nearest.t);
+        if (any(met.hit) && (deferred == nullptr || !deferred->add(box.record, met))) {
+            keep_crossings_inside(rays, box.record, met.hit, nearest);
         }
     }
 

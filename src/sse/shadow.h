@@ -121,10 +121,10 @@ public:
             auto block_triangle = [&](const TriangleHit4& crossing, std::uint32_t) {
                 open = open & !triangle_between(crossing);
             };
-            auto block_instance = [&](const BvhRays& box_rays, std::uint32_t index) {
+            auto block_instance = [&](const BvhRays& box_rays, std::uint32_t box_place) {
                 if (any(open)) {
-                    for_each_instance_crossing<P>(scene_, scene_.instances[index], rays, box_rays, open, distance,
-                                                  block_triangle);
+                    for_each_instance_crossing<P>(scene_, scene_.instance_boxes[box_place], rays, box_rays, open,
+                                                  distance, block_triangle);
                 }
             };
             for_each_span<P>(scene_.flat(), rays, block);
@@ -133,7 +133,7 @@ public:
                 const BvhRays box_rays(rays);
                 for_each_leaf_met(scene_.bvh, box_rays, open, distance, [&](BvhLeaf leaf) {
                     for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle,
-                                             [&](std::uint32_t index) { block_instance(box_rays, index); });
+                                             [&](std::uint32_t box_place) { block_instance(box_rays, box_place); });
                 });
             } else if (scene_.bvh.empty()) {
                 if (sheared && any(open)) {
@@ -141,7 +141,7 @@ public:
                 }
                 if (!scene_.instances.empty()) {
                     const BvhRays box_rays(rays);
-                    for (std::uint32_t i = 0; i < scene_.instances.size(); ++i) {
+                    for (std::uint32_t i = 0; i < scene_.instance_boxes.size(); ++i) {
                         block_instance(box_rays, i);
                     }
                 }
@@ -170,16 +170,17 @@ public:
                     }
                 };
                 const BvhRays box_rays(rays);
-                auto record_instance = [&](std::uint32_t index) {
-                    const InstanceRecord& instance = scene_.instances[index];
-                    for_each_instance_crossing<P>(scene_, instance, rays, box_rays, lanes, distance,
-                                                  [&](const TriangleHit4& crossing, std::uint32_t) {
-                                                      vbool4 between = triangle_between(crossing);
-                                                      if (any(between)) {
-                                                          factors.add({instance_list, instance.leaf, between,
-                                                                       none_true(), transmission_of(instance)});
-                                                      }
-                                                  });
+                auto record_instance = [&](std::uint32_t box_place) {
+                    const InstanceBox& box = scene_.instance_boxes[box_place];
+                    const InstanceRecord& instance = scene_.instances[box.record];
+                    for_each_instance_crossing<P>(
+                        scene_, box, rays, box_rays, lanes, distance, [&](const TriangleHit4& crossing, std::uint32_t) {
+                            vbool4 between = triangle_between(crossing);
+                            if (any(between)) {
+                                factors.add(
+                                    {instance_list, instance.leaf, between, none_true(), transmission_of(instance)});
+                            }
+                        });
                 };
                 for_each_span<P>(scene_.flat(), rays, record);
                 csg.collect();
@@ -213,10 +214,11 @@ public:
                 }
                 if (!scene_.instances.empty()) {
                     const BvhRays box_rays(rays);
-                    for (const InstanceRecord& instance : scene_.instances) {
-                        const float transmission = transmission_of(instance);
-                        for_each_instance_crossing<P>(scene_, instance, rays, box_rays, lanes, distance,
-                                                      [&](const TriangleHit4& crossing, std::uint32_t) {
+                    // In file order, the records' own, whatever order the boxes are in.
+                    for (std::uint32_t record = 0; record < scene_.instances.size(); ++record) {
+                        const float transmission = transmission_of(scene_.instances[record]);
+                        for_each_instance_crossing<P>(scene_, instance_box(scene_, record), rays, box_rays, lanes,
+                                                      distance, [&](const TriangleHit4& crossing, std::uint32_t) {
                                                           multiply(triangle_between(crossing), none_true(),
                                                                    transmission);
                                                       });

@@ -142,6 +142,11 @@ Tracer::Tracer(const scene::Scene& scene, const Precision& precision, Accel acce
     with_precision_policy(precision, [](auto) {});  // refuses a combination that is not built
 }
 
+Tracer::Tracer(scene::Scene& scene, GiveUpMeshes, const Precision& precision, Accel accel)
+    : scene_(std::make_unique<CompiledScene>(compile(scene, accel, &scene.meshes))), precision_(precision) {
+    with_precision_policy(precision, [](auto) {});
+}
+
 Tracer::~Tracer() = default;
 
 BvhStats Tracer::bvh_stats() const {
