@@ -2,6 +2,7 @@
 // SIMD data (the thesis's lesson, heap included), and no heap allocation while tracing.
 #include "reference/tracer.h"
 #include "scene/loader.h"
+#include "scene/portable_random.h"
 #include "sse/compiled_scene.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
@@ -11,11 +12,13 @@
 #include <atomic>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <new>
 #include <string>
+#include <vector>
 
 namespace {
 std::atomic<long> heap_allocations{0};
@@ -203,6 +206,85 @@ TEST(SseCsg, ASweepOverNanCrossingsEnds) {
         twinray::sse::csg_combine(op, b, a, scratch, out);
         EXPECT_LE(out.count, a.count + b.count + 1) << static_cast<int>(op);
     }
+}
+
+// Where a packet's lanes part inside an instance, a lane alone is tested against four triangles at once
+// (crossing_of_four). It must give that lane what the packet's kernel gives it, bit for bit: hit or miss, t, front,
+// on triangles of a grid met through their shared edges and corners (the ties' rule) and on random ones, by packets
+// whose lanes share the frame's axis and by packets whose lanes do not.
+TEST(SseTriangles, OneRayAgainstFourTrianglesAgreesBitForBitWithThePacketKernel) {
+    using namespace twinray::sse;
+    using P = ExactPrecision;
+    twinray::SplitMix64 random(20261205);
+    auto coordinate = [&](double low, double high) { return static_cast<float>(random.uniform(low, high)); };
+    std::vector<TriangleRecord> triangles;
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {  // a grid's two triangles a square, in the plane z = 0.5 i
+            const float x = static_cast<float>(i), y = static_cast<float>(j), z = 0.5f * static_cast<float>(i);
+            triangles.push_back({{x, y, z}, {x + 1, y, z}, {x + 1, y + 1, z}, 0, 0});
+            triangles.push_back({{x, y, z}, {x + 1, y + 1, z}, {x, y + 1, z}, 0, 0});
+        }
+    }
+    for (int i = 0; i < 32; ++i) {
+        auto vertex = [&] { return Vec3(coordinate(-1, 5), coordinate(-1, 5), coordinate(-1, 3)); };
+        triangles.push_back({vertex(), vertex(), vertex(), 0, 0});
+    }
+    std::uint64_t compared = 0, hits = 0, shared_axis_packets = 0;
+    for (int packet = 0; packet < 4000; ++packet) {
+        alignas(16) float origin[3][4], direction[3][4];
+        for (int lane = 0; lane < 4; ++lane) {
+            // Grid points aimed along the axes, at the grid's corners, or anywhere.
+            const bool on_grid = random.next() % 2 == 0;
+            const Vec3 from =
+                on_grid ? Vec3(static_cast<float>(random.next() % 5), static_cast<float>(random.next() % 5), 6)
+                        : Vec3(coordinate(-1, 5), coordinate(-1, 5), coordinate(4, 8));
+            Vec3 towards =
+                random.next() % 3 == 0 ? Vec3(coordinate(-1, 1), coordinate(-1, 1), coordinate(-1, 1)) : Vec3(0, 0, -1);
+            if (random.next() % 4 == 0) {
+                towards =
+                    Vec3(static_cast<float>(random.next() % 5), static_cast<float>(random.next() % 5), 0.5f) - from;
+            }
+            const Vec3 unit = twinray::math::normalize(towards);
+            for (int axis = 0; axis < 3; ++axis) {
+                origin[axis][lane] = from[axis];
+                direction[axis][lane] = unit[axis];
+            }
+        }
+        const RayPacket rays({vfloat4::load(origin[0]), vfloat4::load(origin[1]), vfloat4::load(origin[2])},
+                             {vfloat4::load(direction[0]), vfloat4::load(direction[1]), vfloat4::load(direction[2])},
+                             all_true());
+        const ShearedRays sheared = ShearedRays::of<P>(rays);
+        shared_axis_packets += sheared.common_kz >= 0 ? 1 : 0;
+        for (int lane = 0; lane < 4; ++lane) {
+            const ShearedRays alone = sheared.lane_alone(lane);
+            for (std::size_t first = 0; first + 4 <= triangles.size(); first += 4) {
+                const TriangleRecord* four[4] = {&triangles[first], &triangles[first + 1], &triangles[first + 2],
+                                                 &triangles[first + 3]};
+                const TriangleHit4 together = crossing_of_four<P>(four, alone);
+                for (int k = 0; k < 4; ++k) {
+                    const TriangleHit4 packet_kernel = crossing_of<P>(*four[k], sheared);
+                    const bool expected = ((movemask(packet_kernel.valid) >> lane) & 1) != 0;
+                    const bool actual = ((movemask(together.valid) >> k) & 1) != 0;
+                    ASSERT_EQ(expected, actual)
+                        << "packet " << packet << ", lane " << lane << ", triangle " << first + k;
+                    ++compared;
+                    if (!expected) {
+                        continue;
+                    }
+                    ++hits;
+                    const float t_expected = packet_kernel.t.lane(lane), t_actual = together.t.lane(k);
+                    ASSERT_EQ(0, std::memcmp(&t_expected, &t_actual, sizeof(float)))
+                        << "t " << t_expected << " against " << t_actual << ", packet " << packet << ", lane " << lane;
+                    ASSERT_EQ((movemask(packet_kernel.front) >> lane) & 1, (movemask(together.front) >> k) & 1)
+                        << "front, packet " << packet << ", lane " << lane << ", triangle " << first + k;
+                }
+            }
+        }
+    }
+    EXPECT_EQ(compared, 4000u * 4u * 64u);
+    EXPECT_GT(hits, 20000u) << "too few hits to compare";
+    EXPECT_GT(shared_axis_packets, 100u);
+    EXPECT_LT(shared_axis_packets, 3900u);
 }
 
 }  // namespace

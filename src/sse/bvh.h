@@ -37,10 +37,12 @@ struct alignas(64) BvhNode {
     bool operator==(const BvhNode&) const = default;
 };
 
-// A leaf's items: items[first, first + count).
+// A leaf's items: items[first, first + count). `walking_lane`: the one lane that reached it, where a packet's walk
+// went on for one lane alone (walk_one_lane); else -1.
 struct BvhLeaf {
     std::uint32_t first;
     std::uint32_t count;
+    int walking_lane = -1;
 };
 
 // A leaf is at most this many nodes below the root, whatever the scene: the binary build switches from SAH to

@@ -152,7 +152,7 @@ void walk_one_lane(const Bvh& bvh, const BvhRays& rays, int lane, std::uint32_t 
             continue;
         }
         if (pending.count > 0) {
-            at_leaf(BvhLeaf{pending.first, pending.count});
+            at_leaf(BvhLeaf{pending.first, pending.count, lane});
             if ((movemask(lanes) & lane_bit) == 0) {
                 return;
             }
@@ -295,6 +295,44 @@ inline NodeTest test_instance_box(const InstanceBox& box, const BvhRays& world, 
     return test_box(spread_xyz(_mm_loadu_ps(box.low)), spread_xyz(_mm_loadu_ps(box.high)), world, t_max, lanes);
 }
 
+// The lane that alone reached a leaf of a shape, walking on its own or the only one of `lanes`; else -1.
+inline int lane_alone_at(const BvhLeaf& leaf, vbool4 lanes) {
+    const int bits = movemask(lanes);
+    return leaf.walking_lane >= 0                  ? leaf.walking_lane
+           : bits != 0 && (bits & (bits - 1)) == 0 ? __builtin_ctz(static_cast<unsigned>(bits))
+                                                   : -1;
+}
+
+// A leaf's triangles against one lane's ray, four at a time (crossing_of_four): where the packet's lanes have parted
+// between trees, a lane alone paid a four-lane test per triangle, three lanes idle; at 100 000 instances 57 % of the
+// instances entered served one lane (docs/performance.md). Each crossing found is visited as the packet's kernel
+// would give it for that lane. The other lanes' crossings, which the packet's kernel finds too, are not looked for:
+// a lane that needs one meets this leaf itself, as the BVH's boxes are conservative.
+template <typename P, typename Visit>
+void for_each_crossing_of_lane(const CompiledShape& shape, const BvhLeaf& leaf, const ShearedRays& alone, int lane,
+                               Visit&& visit) {
+    const std::uint32_t end = leaf.first + leaf.count;
+    for (std::uint32_t i = leaf.first; i < end; i += 4) {
+        const TriangleRecord* four[4];
+        std::uint32_t places[4];
+        for (std::uint32_t k = 0; k < 4; ++k) {
+            places[k] = shape.bvh.items[std::min(i + k, end - 1)].index;  // past the end: the last again, not visited
+            four[k] = &shape.triangles.items[places[k]];
+        }
+        const TriangleHit4 crossings = crossing_of_four<P>(four, alone);
+        const int valid = movemask(crossings.valid), front = movemask(crossings.front);
+        for (std::uint32_t k = 0; k < std::min<std::uint32_t>(4, end - i); ++k) {
+            if (((valid >> k) & 1) != 0) {
+                TriangleHit4 crossing;
+                crossing.valid = lanes_of(1 << lane);
+                crossing.t = vfloat4(crossings.t.lane(static_cast<int>(k)));
+                crossing.front = ((front >> k) & 1) != 0 ? all_true() : none_true();
+                visit(crossing, places[k]);
+            }
+        }
+    }
+}
+
 // Calls visit(crossing, place) for every triangle of the instance's shape (`place` in its triangle list) that some
 // lane of `lanes` meets before its t_max, through the shape's BVH where it has one; visit may lower t_max and clear
 // lanes (a shadow ray blocked), both read again at every node, as for_each_leaf_met reads them. The caller has
@@ -309,7 +347,20 @@ void for_each_crossing_inside(const CompiledScene& scene, const InstanceRecord& 
         for_each_triangle_crossing<P>(shape.triangles, sheared, visit);
         return;
     }
+    ShearedRays alone_frame;  // lane `framed`'s, made when a leaf first needs it
+    int framed = -1;
     for_each_leaf_met(shape.bvh, BvhRays(object), lanes, t_max, [&](BvhLeaf leaf) {
+        const int alone = lane_alone_at(leaf, lanes);
+        if constexpr (!P::moller_trumbore) {
+            if (alone >= 0 && leaf.count > 1) {
+                if (alone != framed) {
+                    alone_frame = sheared.lane_alone(alone);
+                    framed = alone;
+                }
+                for_each_crossing_of_lane<P>(shape, leaf, alone_frame, alone, visit);
+                return;
+            }
+        }
         for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
             const std::uint32_t place = shape.bvh.items[i].index;
             TriangleHit4 crossing = triangle_crossing<P>(shape.triangles.items[place], sheared);

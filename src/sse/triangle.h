@@ -97,12 +97,43 @@ struct ShearedRays {
 
     // A vertex in each ray's frame. Permuting before subtracting the origin rounds as after: a permutation
     // only chooses which components meet.
-    Vec3x4 transformed(const Vec3& vertex) const {
-        Vec3x4 v = common_kz >= 0
-                       ? Vec3x4{vfloat4(vertex[common_kx]), vfloat4(vertex[common_ky]), vfloat4(vertex[common_kz])}
-                       : permute(broadcast(vertex));
-        Vec3x4 p = v - permuted_origin;
+    TWINRAY_KERNEL Vec3x4 transformed(const Vec3& vertex) const {
+        return in_frame(common_kz >= 0
+                            ? Vec3x4{vfloat4(vertex[common_kx]), vfloat4(vertex[common_ky]), vfloat4(vertex[common_kz])}
+                            : permute(broadcast(vertex)));
+    }
+
+    // (x_kx, x_ky, x_kz) where the four lanes share kz (common_kz >= 0): a choice of registers, no blend.
+    TWINRAY_KERNEL Vec3x4 permute_alike(const Vec3x4& v) const {
+        return common_kz == 0 ? Vec3x4{v.y, v.z, v.x} : common_kz == 1 ? Vec3x4{v.z, v.x, v.y} : v;
+    }
+
+    // Permuted points, lane by lane, translated and sheared into the frame.
+    TWINRAY_KERNEL Vec3x4 in_frame(const Vec3x4& permuted) const {
+        Vec3x4 p = permuted - permuted_origin;
         return {p.x - shear_x * p.z, p.y - shear_y * p.z, shear_z * p.z};
+    }
+
+    // Lane `lane`'s frame in all four lanes: to test that ray alone against four triangles at once
+    // (crossing_of_four), each pair by the very arithmetic the packet's kernel gives that lane.
+    ShearedRays lane_alone(int lane) const {
+        auto one = [lane](vfloat4 v) { return vfloat4(v.lane(lane)); };
+        auto one_mask = [lane](vbool4 m) { return ((movemask(m) >> lane) & 1) != 0 ? all_true() : none_true(); };
+        auto one_vector = [&](const Vec3x4& v) { return Vec3x4{one(v.x), one(v.y), one(v.z)}; };
+        ShearedRays out;
+        out.origin = one_vector(origin);
+        out.direction = one_vector(direction);
+        out.permuted_origin = one_vector(permuted_origin);
+        out.kz_is_x = one_mask(kz_is_x);
+        out.kz_is_y = one_mask(kz_is_y);
+        out.shear_x = one(shear_x);
+        out.shear_y = one(shear_y);
+        out.shear_z = one(shear_z);
+        out.towards_positive_kz = one_mask(towards_positive_kz);
+        out.common_kz = any(out.kz_is_x) ? 0 : any(out.kz_is_y) ? 1 : 2;
+        out.common_kx = (out.common_kz + 1) % 3;
+        out.common_ky = (out.common_kz + 2) % 3;
+        return out;
     }
 };
 
@@ -138,10 +169,8 @@ inline EdgeSign edge_sign(vfloat4 value, const Vec3x4& p, const Vec3x4& q) {
 // front (counter-clockwise side) where det has the sign of d_kz: det is the sheared frame's signed area,
 // −(n·d)/d_kz with n = (b − a) × (c − a).
 template <typename P>
-TWINRAY_KERNEL TriangleHit4 crossing_of(const TriangleRecord& triangle, const ShearedRays& rays) {
-    Vec3x4 a = rays.transformed(triangle.a);
-    Vec3x4 b = rays.transformed(triangle.b);
-    Vec3x4 c = rays.transformed(triangle.c);
+TWINRAY_KERNEL TriangleHit4 crossing_in_frame(const Vec3x4& a, const Vec3x4& b, const Vec3x4& c,
+                                              vbool4 towards_positive_kz) {
     vfloat4 u = c.x * b.y - c.y * b.x;
     vfloat4 v = a.x * c.y - a.y * c.x;
     vfloat4 w = b.x * a.y - b.y * a.x;
@@ -167,9 +196,31 @@ TWINRAY_KERNEL TriangleHit4 crossing_of(const TriangleRecord& triangle, const Sh
     vfloat4 scaled_t = u * a.z + v * b.z + w * c.z;
     hit.t = divide<P>(scaled_t, det);
     hit.valid = hit.valid & (hit.t > zero) & (abs(hit.t) < vfloat4(infinity));
-    vbool4 front = select_mask(all_positive, rays.towards_positive_kz, !rays.towards_positive_kz);
+    vbool4 front = select_mask(all_positive, towards_positive_kz, !towards_positive_kz);
     hit.front = mutated<Mutant::triangle_winding_flipped> ? !front : front;
     return hit;
+}
+
+template <typename P>
+TWINRAY_KERNEL TriangleHit4 crossing_of(const TriangleRecord& triangle, const ShearedRays& rays) {
+    return crossing_in_frame<P>(rays.transformed(triangle.a), rays.transformed(triangle.b),
+                                rays.transformed(triangle.c), rays.towards_positive_kz);
+}
+
+// One ray (`alone`, ShearedRays::lane_alone) against four triangles, lane i against triangles[i]: where a packet's
+// lanes have parted, one test serves four triangles instead of one. The same edge functions, ties, t and front as
+// crossing_of gives that ray's lane, bit for bit (tests/sse_test.cpp). Each record is read 16 bytes at a time: a
+// vertex and the 4 bytes after it, which are the record's own.
+template <typename P>
+TWINRAY_KERNEL TriangleHit4 crossing_of_four(const TriangleRecord* const triangles[4], const ShearedRays& alone) {
+    auto vertices = [&](Vec3 TriangleRecord::*vertex) {
+        __m128 v0 = _mm_loadu_ps(&(triangles[0]->*vertex).x), v1 = _mm_loadu_ps(&(triangles[1]->*vertex).x);
+        __m128 v2 = _mm_loadu_ps(&(triangles[2]->*vertex).x), v3 = _mm_loadu_ps(&(triangles[3]->*vertex).x);
+        _MM_TRANSPOSE4_PS(v0, v1, v2, v3);
+        return alone.in_frame(alone.permute_alike(Vec3x4{vfloat4(v0), vfloat4(v1), vfloat4(v2)}));
+    };
+    return crossing_in_frame<P>(vertices(&TriangleRecord::a), vertices(&TriangleRecord::b),
+                                vertices(&TriangleRecord::c), alone.towards_positive_kz);
 }
 
 // The precision knob `mt` (docs/performance.md): Möller and Trumbore's test (JGT 1997), the one most tracers
