@@ -486,14 +486,8 @@ private:
             int from = ((lanes >> lane) & 1) != 0 ? lane : first;
             record[lane] = &scene_.triangles.items[static_cast<std::size_t>(place[from])];
         }
-        // Each vertex's x, y, z and the next 4 bytes of the record (its next vertex, or its leaf), transposed.
-        auto gather = [&](Vec3 TriangleRecord::*vertex) {
-            const float* at[4] = {&(record[0]->*vertex).x, &(record[1]->*vertex).x, &(record[2]->*vertex).x,
-                                  &(record[3]->*vertex).x};
-            const Transposed4 columns = load_transposed(at);
-            return Vec3x4{columns.column[0], columns.column[1], columns.column[2]};
-        };
-        Vec3x4 a = gather(&TriangleRecord::a), b = gather(&TriangleRecord::b), c = gather(&TriangleRecord::c);
+        Vec3x4 a = vertex_of_four(record, &TriangleRecord::a), b = vertex_of_four(record, &TriangleRecord::b),
+               c = vertex_of_four(record, &TriangleRecord::c);
         auto length = [](const Vec3x4& v) { return sqrt(math::dot(v, v)); };
         Vec3x4 n = math::cross(b - a, c - a);
         Vec3x4 normal = n / length(n);

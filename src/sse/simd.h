@@ -208,7 +208,7 @@ inline vfloat4 max_abs_component(const Vec3x4& a) {
 struct Transposed4 {
     vfloat4 column[4];
 };
-inline Transposed4 load_transposed(const float* const at[4]) {
+TWINRAY_KERNEL Transposed4 load_transposed(const float* const at[4]) {
     __m128 v0 = _mm_loadu_ps(at[0]), v1 = _mm_loadu_ps(at[1]), v2 = _mm_loadu_ps(at[2]), v3 = _mm_loadu_ps(at[3]);
     _MM_TRANSPOSE4_PS(v0, v1, v2, v3);
     return {{vfloat4(v0), vfloat4(v1), vfloat4(v2), vfloat4(v3)}};

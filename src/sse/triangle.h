@@ -207,17 +207,22 @@ TWINRAY_KERNEL TriangleHit4 crossing_of(const TriangleRecord& triangle, const Sh
                                 rays.transformed(triangle.c), rays.towards_positive_kz);
 }
 
+// One vertex of four triangle records, lane i records[i]'s. Each record is read 16 bytes at a time: the vertex and
+// the 4 bytes after it, which are the record's own (its next vertex, or its leaf).
+TWINRAY_KERNEL Vec3x4 vertex_of_four(const TriangleRecord* const records[4], Vec3 TriangleRecord::*vertex) {
+    const float* at[4] = {&(records[0]->*vertex).x, &(records[1]->*vertex).x, &(records[2]->*vertex).x,
+                          &(records[3]->*vertex).x};
+    const Transposed4 columns = load_transposed(at);
+    return {columns.column[0], columns.column[1], columns.column[2]};
+}
+
 // One ray (`alone`, ShearedRays::lane_alone) against four triangles, lane i against triangles[i]: where a packet's
 // lanes have parted, one test serves four triangles instead of one. The same edge functions, ties, t and front as
-// crossing_of gives that ray's lane, bit for bit (tests/sse_test.cpp). Each record is read 16 bytes at a time: a
-// vertex and the 4 bytes after it, which are the record's own.
+// crossing_of gives that ray's lane, bit for bit (tests/sse_test.cpp).
 template <typename P>
 TWINRAY_KERNEL TriangleHit4 crossing_of_four(const TriangleRecord* const triangles[4], const ShearedRays& alone) {
     auto vertices = [&](Vec3 TriangleRecord::*vertex) {
-        __m128 v0 = _mm_loadu_ps(&(triangles[0]->*vertex).x), v1 = _mm_loadu_ps(&(triangles[1]->*vertex).x);
-        __m128 v2 = _mm_loadu_ps(&(triangles[2]->*vertex).x), v3 = _mm_loadu_ps(&(triangles[3]->*vertex).x);
-        _MM_TRANSPOSE4_PS(v0, v1, v2, v3);
-        return alone.in_frame(alone.permute_alike(Vec3x4{vfloat4(v0), vfloat4(v1), vfloat4(v2)}));
+        return alone.in_frame(alone.permute_alike(vertex_of_four(triangles, vertex)));
     };
     return crossing_in_frame<P>(vertices(&TriangleRecord::a), vertices(&TriangleRecord::b),
                                 vertices(&TriangleRecord::c), alone.towards_positive_kz);
