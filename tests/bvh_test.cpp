@@ -335,6 +335,28 @@ Scene veil_column(std::size_t count) {
     return scene_of(objects);
 }
 
+// The shadow of a packet at the foot of a column (the floor under the origin) towards the light at its top, by brute
+// force and through the BVH: the same in every lane, bit for bit, and the BVH's falling back past the transmission
+// factors' capacity exactly where `falls_back`.
+struct ColumnShadows {
+    twinray::sse::vfloat4 brute, bvh;
+};
+ColumnShadows expect_same_column_shadows(const twinray::sse::CompiledScene& brute,
+                                         const twinray::sse::CompiledScene& bvh, bool falls_back,
+                                         const std::string& name) {
+    using namespace twinray::sse;
+    const Vec3 light(-20, 30, 20);
+    Fallbacks fallbacks;
+    Vec3x4 origins = packet_around({0, -11.999f, 0}, {0, 1, 0}).origin;
+    vbool4 lanes = packet_around({0, 0, 0}, {0, 1, 0}).active;
+    ColumnShadows shadows{ShadowTransmittance<ExactPrecision>(brute)(origins, light, lanes),
+                          ShadowTransmittance<ExactPrecision>(bvh)(origins, light, lanes, &fallbacks)};
+    EXPECT_EQ(fallbacks.transmission_factors, falls_back) << name;
+    EXPECT_TRUE(same_lanes(shadows.brute, shadows.bvh))
+        << name << ": transmittance " << lanes_of(shadows.brute) << " and " << lanes_of(shadows.bvh);
+    return shadows;
+}
+
 TEST_F(Bvh, TransmissionFactorsFallBackToBruteForcePastCapacityWithTheSameAnswers) {
     using namespace twinray::sse;
     static_assert(100 < TransmissionFactors::capacity && TransmissionFactors::capacity < 150,
@@ -347,16 +369,7 @@ TEST_F(Bvh, TransmissionFactorsFallBackToBruteForcePastCapacityWithTheSameAnswer
         ASSERT_FALSE(bvh.bvh.empty());
         ASSERT_EQ(bvh.origin, (twinray::scene::Vec3{0, 0, 0}));
         const bool over = count > static_cast<std::size_t>(TransmissionFactors::capacity);
-
-        Fallbacks fallbacks;
-        Vec3x4 origins = packet_around({0, -11.999f, 0}, {0, 1, 0}).origin;
-        vbool4 lanes = packet_around({0, 0, 0}, {0, 1, 0}).active;
-        const Vec3 light(-20, 30, 20);
-        vfloat4 brute_shadow = ShadowTransmittance<ExactPrecision>(brute)(origins, light, lanes);
-        vfloat4 bvh_shadow = ShadowTransmittance<ExactPrecision>(bvh)(origins, light, lanes, &fallbacks);
-        EXPECT_EQ(fallbacks.transmission_factors, over) << name;
-        EXPECT_TRUE(same_lanes(brute_shadow, bvh_shadow))
-            << name << ": transmittance " << lanes_of(brute_shadow) << " and " << lanes_of(bvh_shadow);
+        const vfloat4 bvh_shadow = expect_same_column_shadows(brute, bvh, over, name).bvh;
         // 0.8 per surface: every lane crossed every sphere.
         const double expected = std::pow(0.8, 2.0 * static_cast<double>(count));
         for (int lane = 0; lane < 4; ++lane) {
@@ -408,15 +421,7 @@ TEST_F(Bvh, TransmissionFallbackMultipliesInFileOrderNotLeafOrder) {
     CompiledScene bvh = compile(scene, Accel::bvh);
     ASSERT_FALSE(bvh.bvh.empty());
     ASSERT_EQ(bvh.origin, (twinray::scene::Vec3{0, 0, 0}));
-
-    Fallbacks fallbacks;
-    Vec3x4 origins = packet_around({0, -11.999f, 0}, {0, 1, 0}).origin;
-    vbool4 lanes = packet_around({0, 0, 0}, {0, 1, 0}).active;
-    vfloat4 brute_shadow = ShadowTransmittance<ExactPrecision>(brute)(origins, Vec3(light), lanes);
-    vfloat4 bvh_shadow = ShadowTransmittance<ExactPrecision>(bvh)(origins, Vec3(light), lanes, &fallbacks);
-    EXPECT_TRUE(fallbacks.transmission_factors);
-    EXPECT_TRUE(same_lanes(brute_shadow, bvh_shadow))
-        << "transmittance " << lanes_of(brute_shadow) << " and " << lanes_of(bvh_shadow);
+    const vfloat4 brute_shadow = expect_same_column_shadows(brute, bvh, true, "150 glass spheres").brute;
 
     // Every lane crosses every sphere twice: the product in each order, as the tracer multiplies.
     auto product = [](const PrimitiveListOf<twinray::scene::Sphere>& spheres) {
@@ -472,15 +477,8 @@ TEST_F(Bvh, TriangleTransmissionsMultiplyInFileOrderNotLeafOrder) {
         ASSERT_EQ(bvh.triangles.file_order.size(), count);
         const bool over = count > static_cast<std::size_t>(TransmissionFactors::capacity);
         const std::string name = std::to_string(count) + " glass triangles";
-
-        Fallbacks fallbacks;
-        Vec3x4 origins = packet_around({0, -11.999f, 0}, {0, 1, 0}).origin;
-        vbool4 lanes = packet_around({0, 0, 0}, {0, 1, 0}).active;
-        vfloat4 brute_shadow = ShadowTransmittance<ExactPrecision>(brute)(origins, Vec3(light), lanes);
-        vfloat4 bvh_shadow = ShadowTransmittance<ExactPrecision>(bvh)(origins, Vec3(light), lanes, &fallbacks);
-        EXPECT_EQ(fallbacks.transmission_factors, over) << name;
-        EXPECT_TRUE(same_lanes(brute_shadow, bvh_shadow))
-            << name << ": transmittance " << lanes_of(brute_shadow) << " and " << lanes_of(bvh_shadow);
+        const ColumnShadows shadows = expect_same_column_shadows(brute, bvh, over, name);
+        const vfloat4 brute_shadow = shadows.brute, bvh_shadow = shadows.bvh;
 
         // Every lane crosses every triangle once: the product in each order, as the tracer multiplies.
         auto product = [&](const CompiledScene& compiled) {
@@ -534,15 +532,8 @@ TEST_F(Bvh, InstanceTransmissionsMultiplyInFileOrderNotLeafOrder) {
         ASSERT_EQ(bvh.instances.size(), count);
         const bool over = count > static_cast<std::size_t>(TransmissionFactors::capacity);
         const std::string name = std::to_string(count) + " glass instances";
-
-        Fallbacks fallbacks;
-        Vec3x4 origins = packet_around({0, -11.999f, 0}, {0, 1, 0}).origin;
-        vbool4 lanes = packet_around({0, 0, 0}, {0, 1, 0}).active;
-        vfloat4 brute_shadow = ShadowTransmittance<ExactPrecision>(brute)(origins, Vec3(light), lanes);
-        vfloat4 bvh_shadow = ShadowTransmittance<ExactPrecision>(bvh)(origins, Vec3(light), lanes, &fallbacks);
-        EXPECT_EQ(fallbacks.transmission_factors, over) << name;
-        EXPECT_TRUE(same_lanes(brute_shadow, bvh_shadow))
-            << name << ": transmittance " << lanes_of(brute_shadow) << " and " << lanes_of(bvh_shadow);
+        const ColumnShadows shadows = expect_same_column_shadows(brute, bvh, over, name);
+        const vfloat4 brute_shadow = shadows.brute, bvh_shadow = shadows.bvh;
 
         // Every lane crosses every pane once: the product in file order and in the order of the BVH's leaves.
         auto transmission = [&](std::uint32_t record) {

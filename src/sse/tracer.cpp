@@ -138,13 +138,14 @@ std::string precision_name(const Precision& precision) {
 }
 
 Tracer::Tracer(const scene::Scene& scene, const Precision& precision, Accel accel)
-    : scene_(std::make_unique<CompiledScene>(compile(scene, accel))), precision_(precision) {
-    with_precision_policy(precision, [](auto) {});  // refuses a combination that is not built
-}
+    : Tracer(std::make_unique<CompiledScene>(compile(scene, accel)), precision) {}
 
 Tracer::Tracer(scene::Scene& scene, GiveUpMeshes, const Precision& precision, Accel accel)
-    : scene_(std::make_unique<CompiledScene>(compile(scene, accel, &scene.meshes))), precision_(precision) {
-    with_precision_policy(precision, [](auto) {});
+    : Tracer(std::make_unique<CompiledScene>(compile(scene, accel, &scene.meshes)), precision) {}
+
+Tracer::Tracer(std::unique_ptr<CompiledScene> compiled, const Precision& precision)
+    : scene_(std::move(compiled)), precision_(precision) {
+    with_precision_policy(precision, [](auto) {});  // refuses a combination that is not built
 }
 
 Tracer::~Tracer() = default;

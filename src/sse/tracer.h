@@ -122,6 +122,8 @@ public:
     BvhStats bvh_stats() const;
 
 private:
+    Tracer(std::unique_ptr<CompiledScene> compiled, const Precision& precision);
+
     std::unique_ptr<CompiledScene> scene_;
     Precision precision_;
 };
