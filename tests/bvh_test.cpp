@@ -24,6 +24,7 @@
 #include <cstring>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -193,6 +194,35 @@ TEST_F(Bvh, ImagesOfHardScenesAreBitIdenticalToBruteForce) {
     // The floor plane alone: a BVH over no bounded item is empty, and every ray tests the flat lists, culled by
     // tile as without one.
     expect_images_identical("a plane alone (an empty BVH)", scene_of({}));
+}
+
+// The render command's tracer gives up the scene's objects, meshes and leaf paths once compiled (the objects before
+// the BVH is built, its leaf table then made from the records); near the origin and 1e7 away (where the compiler
+// works on a copy re-based at the eye), with glass among the objects, it draws the same image as a tracer from a
+// scene it keeps, bit for bit.
+TEST_F(Bvh, TheSseTracerGivenUpTheGeometryRendersTheSameImageNearAndFarFromTheOrigin) {
+    std::vector<std::pair<std::string, Scene>> scenes = hard_scenes();
+    for (const char* family : {"fractal", "csg", "lattice"}) {
+        scenes.emplace_back(family, generated_scene(family, 600));
+    }
+    for (auto& [name, near] : scenes) {
+        near.width = 48;
+        near.height = 36;
+        const Scene far = twinray::scene::moved(near, 1, {1e7, -3e6, 5e6});
+        for (const auto& [where, scene] : {std::pair<const char*, const Scene&>{"near", near}, {"far", far}}) {
+            for (Accel accel : {Accel::bvh, Accel::none}) {
+                RenderOptions options;
+                options.threads = 1;
+                options.accel = accel;
+                Scene given = scene;
+                const twinray::sse::Tracer giving_up(given, twinray::sse::Tracer::give_up_geometry, {}, accel);
+                EXPECT_TRUE(given.objects.empty() && given.meshes.empty() && given.leaf_paths.empty());
+                EXPECT_TRUE(
+                    same_bits(twinray::sse::render(scene, options), twinray::sse::render(giving_up, given, options)))
+                    << name << ", " << where << (accel == Accel::bvh ? ", bvh" : ", brute force");
+            }
+        }
+    }
 }
 
 // Through the per-ray API: the same hit, t, leaf and normal bit for bit, and the same colour of the whole

@@ -241,9 +241,10 @@ TEST_F(ExactInstances, TheBvhOverInstancesRendersAsBruteForceBitForBit) {
     }
 }
 
-// A render that gives up the scene's meshes (the render command's, sse::Tracer::give_up_meshes) finds them empty
-// afterwards and draws the image the tracer draws from a scene it keeps, bit for bit, with its BVH and without.
-TEST_F(ExactInstances, TheSseTracerGivenUpTheMeshesRendersTheSameImage) {
+// A render that gives up the scene's objects, meshes and leaf paths (the render command's,
+// sse::Tracer::give_up_geometry) finds them empty afterwards and draws the image the tracer draws from a scene it keeps,
+// bit for bit, with its BVH and without.
+TEST_F(ExactInstances, TheSseTracerGivenUpTheGeometryRendersTheSameImage) {
     if (!sse::cpu_supports_sse41()) {
         GTEST_SKIP() << sse::missing_sse41_message();
     }
@@ -252,8 +253,8 @@ TEST_F(ExactInstances, TheSseTracerGivenUpTheMeshesRendersTheSameImage) {
         options.threads = 1;
         options.accel = accel;
         scene::Scene given = instanced_;
-        const sse::Tracer giving_up(given, sse::Tracer::give_up_meshes, {}, accel);
-        EXPECT_TRUE(given.meshes.empty());
+        const sse::Tracer giving_up(given, sse::Tracer::give_up_geometry, {}, accel);
+        EXPECT_TRUE(given.objects.empty() && given.meshes.empty() && given.leaf_paths.empty());
         EXPECT_EQ(differing_pixels(sse::render(instanced_, options).image, sse::render(giving_up, given, options).image,
                                    accel == Accel::bvh ? "sse, bvh" : "sse, brute force"),
                   0);

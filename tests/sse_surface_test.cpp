@@ -1,14 +1,21 @@
 // Each SSE primitive header's surface at a hit, called directly (the stage a render reaches only through
 // nearest_hit.h): a point measurably off the surface is re-projected onto it within the shared bound
 // (scene::surface_bounds_of_*), and the outward normal points along the surface's true normal.
+#include "scene/loader.h"
+#include "scene/portable_random.h"
 #include "sse/box.h"
+#include "sse/compiled_scene.h"
 #include "sse/cylinder.h"
 #include "sse/plane.h"
 #include "sse/sphere.h"
+#include "sse/transformed.h"
 
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <cmath>
+#include <cstring>
+#include <string>
 
 namespace {
 
@@ -88,6 +95,109 @@ TEST(SseSurface, ACylinderSideAndCapPointReprojectWithinTheirOwnRoundingBound) {
     float cap_error = std::fabs(reprojected(cap, cap_normal).y - 5.0f);
     EXPECT_LE(cap_error, cap.own_rounding) << "height above the cap = " << cap_error;
     EXPECT_EQ(cap_normal.y, 1.0f);
+}
+
+// The leaf table is made from the packet records once the scene's objects are given up (sse/compiled_scene.cpp).
+template <typename Surface>
+bool same_bits(const Surface& a, const Surface& b) {
+    return std::memcmp(&a, &b, sizeof(Surface)) == 0;
+}
+
+TEST(SseSurface, EachRecordGivesBackItsSurfaceBitForBitWhereItsRadiusSquaredIsNormal) {
+    twinray::SplitMix64 random(27);
+    int checked = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const scene::Vec3 center{random.uniform(-1e3, 1e3), random.uniform(-1e3, 1e3), random.uniform(-1e3, 1e3)};
+        const double radius = std::pow(10.0, random.uniform(-18, 18));
+        const float square = static_cast<float>(radius) * static_cast<float>(radius);
+        if (!(square >= FLT_MIN && square <= FLT_MAX)) {
+            continue;
+        }
+        const scene::Sphere sphere{center, radius};
+        EXPECT_TRUE(
+            same_bits(twinray::sse::surface_of(twinray::sse::make_shape(sphere)), twinray::sse::make_surface(sphere)))
+            << "sphere of radius " << radius;
+        const scene::Cylinder cylinder{center, center + scene::Vec3{radius, 2 * radius, -radius}, radius};
+        EXPECT_TRUE(same_bits(twinray::sse::surface_of(twinray::sse::make_shape(cylinder)),
+                              twinray::sse::make_surface(cylinder)))
+            << "cylinder of radius " << radius;
+        const scene::Box box{center, center + scene::Vec3{radius, radius, 2 * radius}};
+        EXPECT_TRUE(
+            same_bits(twinray::sse::surface_of(twinray::sse::make_shape(box)), twinray::sse::make_surface(box)));
+        const scene::Plane plane{math::normalize(center), radius};
+        EXPECT_TRUE(
+            same_bits(twinray::sse::surface_of(twinray::sse::make_shape(plane)), twinray::sse::make_surface(plane)));
+        ++checked;
+    }
+    EXPECT_GT(checked, 19000);
+}
+
+// Each leaf of a compiled scene, whether the scene was kept or given up, against what make_surface makes of its object.
+template <typename Surface>
+void expect_same_surface(const Surface& held, const Surface& made, const std::string& leaf) {
+    EXPECT_TRUE(same_bits(held, made)) << leaf;
+}
+template <typename Inner>
+void expect_same_surface(const twinray::sse::TransformedSurface<Inner>& held,
+                         const twinray::sse::TransformedSurface<Inner>& made, const std::string& leaf) {
+    EXPECT_TRUE(same_bits(held.inner(), made.inner()) && same_bits(held.to_world(), made.to_world())) << leaf;
+}
+
+void expect_leaves_of(const twinray::sse::LeafTable& leaves, const scene::Object& object, const scene::Scene& scene,
+                      int& compared) {
+    std::visit(
+        [&](const auto& shape) {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (scene::is_primitive<S>) {
+                const std::string leaf = scene.leaf_paths[static_cast<std::size_t>(object.leaf)];
+                const twinray::sse::Leaf& entry = leaves[static_cast<std::size_t>(object.leaf)];
+                const auto* held = std::get_if<twinray::sse::SurfaceOf<S>>(&entry.surface);
+                ASSERT_NE(held, nullptr) << leaf << " holds another kind of surface";
+                expect_same_surface(*held, twinray::sse::make_surface(shape), leaf);
+                EXPECT_EQ(entry.material, object.material) << leaf;
+                ++compared;
+            } else {
+                for (const scene::Object& child : shape.children) {
+                    expect_leaves_of(leaves, child, scene, compared);
+                }
+            }
+        },
+        object.shape);
+}
+
+// Radii whose float squares are subnormal (1e-20) or infinite (1e20), and transformed primitives, have surfaces their
+// records cannot give back: the compiler keeps them apart, at the top level and inside CSG.
+TEST(SseSurface, EveryCompiledLeafHoldsBitForBitTheSurfaceItsObjectMakesWhetherTheSceneIsKeptOrGivenUp) {
+    const scene::Scene scene = scene::parse_scene(R"({"format": "twinray-scene/1",
+      "camera": {"eye": [0, 2, 30], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 50},
+      "materials": {"red": {"color": [1, 0, 0]}, "glass": {"color": [1, 1, 1], "transmission": 0.8, "ior": 1.5}},
+      "objects": [
+        {"type": "plane", "normal": [0, 1, 0], "offset": -3},
+        {"type": "sphere", "center": [1.25, 0.5, -2], "radius": 0.7, "material": "red"},
+        {"type": "sphere", "center": [2, 0, 0], "radius": 1e-20},
+        {"type": "sphere", "center": [0, 0, -1e21], "radius": 1e20, "material": "glass"},
+        {"type": "cylinder", "base": [-3, 0, 0], "cap": [-3, 2, 0.5], "radius": 3e-20},
+        {"type": "cylinder", "base": [3, 0, 0], "cap": [3, 1, 0], "radius": 0.25},
+        {"type": "box", "min": [-1, -1, 4], "max": [0.5, 0.25, 5]},
+        {"type": "sphere", "center": [0, 0, 0], "radius": 1, "transform": [{"scale": [2, 0.5, 1]}]},
+        {"type": "difference", "material": "glass", "children": [
+          {"type": "box", "min": [4, 0, 0], "max": [6, 2, 2]},
+          {"type": "sphere", "center": [5, 1, 1], "radius": 1e-20},
+          {"type": "cylinder", "base": [5, 0, 1], "cap": [5, 2, 1], "radius": 0.5,
+           "transform": [{"scale": [1, 1, 3]}]}]}]})",
+                                                  "sse_surface_test");
+    for (twinray::Accel accel : {twinray::Accel::bvh, twinray::Accel::none}) {
+        scene::Scene given_up = scene;
+        const twinray::sse::CompiledScene kept = twinray::sse::compile(scene, accel);
+        const twinray::sse::CompiledScene giving_up = twinray::sse::compile(given_up, accel, &given_up);
+        EXPECT_TRUE(given_up.objects.empty() && given_up.leaf_paths.empty());
+        int compared = 0;
+        for (const scene::Object& object : scene.objects) {
+            expect_leaves_of(kept.leaves, object, scene, compared);
+            expect_leaves_of(giving_up.leaves, object, scene, compared);
+        }
+        EXPECT_EQ(compared, 2 * 11);
+    }
 }
 
 }  // namespace

@@ -138,7 +138,7 @@ void print_mesh(const char* label, const std::string& name, const scene::MeshDat
 }
 
 // Each mesh, each mesh shape once with its count of instances, as print_mesh prints them: counted before the render,
-// which may give up the scene's meshes (render_giving_up_meshes).
+// which may give up the scene's objects and meshes (render_giving_up_geometry).
 struct MeshLine {
     const char* label;
     std::string name;
@@ -229,7 +229,7 @@ int run_render(const RenderArguments& arguments) {
     const std::vector<MeshLine> meshes = mesh_lines(scene);
     std::optional<RenderResult> rendered;
     try {
-        rendered.emplace(render_giving_up_meshes(arguments.tracer, scene, options, arguments.precision));
+        rendered.emplace(render_giving_up_geometry(arguments.tracer, scene, options, arguments.precision));
         // A Ctrl-C after the last item but before the write still means "stop": nothing is written.
         if (interrupted.load(std::memory_order_relaxed)) {
             throw RenderCancelled();

@@ -15,15 +15,15 @@ RenderResult render_with(const std::string& tracer_name, const scene::Scene& sce
     return tracing::make_tracer(tracer_name, scene, precision, options.accel)->render(options);
 }
 
-RenderResult render_giving_up_meshes(const std::string& tracer_name, scene::Scene& scene, const RenderOptions& options,
-                                     const sse::Precision& precision) {
+RenderResult render_giving_up_geometry(const std::string& tracer_name, scene::Scene& scene,
+                                       const RenderOptions& options, const sse::Precision& precision) {
     if (tracer_name != "sse") {
         return render_with(tracer_name, scene, options, precision);
     }
     if (std::string problem = precision_problem(tracer_name, precision); !problem.empty()) {
         throw std::invalid_argument(problem);
     }
-    const sse::Tracer tracer(scene, sse::Tracer::give_up_meshes, precision, options.accel);
+    const sse::Tracer tracer(scene, sse::Tracer::give_up_geometry, precision, options.accel);
     return sse::render(tracer, scene, options);
 }
 

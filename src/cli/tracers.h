@@ -23,10 +23,10 @@ inline const char* default_tracer = "sse";
 // The tracer's image (tracing::make_tracer, then render): its errors are make_tracer's.
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
                          const sse::Precision& precision = {});
-// The same for a caller that reads no mesh of `scene` again: the SSE tracer empties scene.meshes once it has compiled
-// them (sse::Tracer::give_up_meshes).
-RenderResult render_giving_up_meshes(const std::string& tracer_name, scene::Scene& scene, const RenderOptions& options,
-                                     const sse::Precision& precision);
+// The same for a caller that reads none of the objects, meshes and leaf paths of `scene` again: the SSE tracer empties
+// them once it has compiled them (sse::Tracer::give_up_geometry).
+RenderResult render_giving_up_geometry(const std::string& tracer_name, scene::Scene& scene,
+                                       const RenderOptions& options, const sse::Precision& precision);
 
 // The exit status of a plug-in's error (README): a kind it lacks, unusable, a broken contract.
 int plugin_exit_status(const plugin::PluginError& error);

@@ -31,6 +31,11 @@ inline BoxSurface make_surface(const scene::Box& box) {
     return {Vec3(box.min), Vec3(box.max)};
 }
 
+// The surface again from the record, once the scene's objects are given up (compiled_scene.cpp).
+inline BoxSurface surface_of(const BoxShape& box) {
+    return {lane(box.min, 0), lane(box.max, 0)};
+}
+
 // Face code: 2·axis + 1 where the outward normal is +axis, 2·axis where it is −axis.
 constexpr int box_face(int axis, bool positive) {
     return 2 * axis + (positive ? 1 : 0);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <optional>
 
 namespace twinray::sse {
@@ -20,8 +21,33 @@ scene::Box as_float_safe_box(const scene::Bounds& bounds) {
     return box;
 }
 
+// A primitive's hit surface is made again from its packet record (surface_of) where it gives it back bit for bit, so
+// that the leaf table can be made once the scene's objects are given up; the others are kept apart from the start.
+template <typename Shape>
+concept SurfaceFromRecord = requires(const Shape& record) {
+    surface_of(record);
+};
+
+template <typename Shape, typename Surface>
+bool gives_back(const Shape& record, const Surface& surface) {
+    if constexpr (SurfaceFromRecord<Shape>) {
+        const Surface again = surface_of(record);
+        return std::memcmp(&again, &surface, sizeof surface) == 0;
+    } else {
+        return false;
+    }
+}
+
+// A leaf whose record does not give back its surface: a transformed primitive's, or a sphere's or cylinder's whose
+// radius squared in float is not normal.
+struct LeafApart {
+    std::int32_t leaf;
+    Leaf entry;
+};
+
 // Appends a primitive to the list of its type (at top level, or inside one CSG object); returns where it went.
-BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int32_t id, float transmission) {
+BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int32_t id, float transmission,
+                      std::vector<LeafApart>& apart) {
     BvhItem added{};
     std::visit(
         [&](const auto& shape) {
@@ -32,26 +58,29 @@ BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::i
                 list.items.push_back(make_shape(shape));
                 list.ids.push_back(id);
                 list.transmission.push_back(transmission);
+                const SurfaceOf<S> surface = make_surface(shape);
+                if (!gives_back(list.items.back(), surface)) {
+                    apart.push_back({object.leaf, {surface, object.material}});
+                }
             }
         },
         object.shape);
     return added;
 }
 
-// The surfaces and materials of the object's leaves (a CSG object's, all of them).
-void add_leaves(LeafTable& leaves, const scene::Object& object) {
-    std::visit(
-        [&](const auto& shape) {
-            using S = std::decay_t<decltype(shape)>;
-            if constexpr (scene::is_primitive<S>) {
-                leaves[static_cast<std::size_t>(object.leaf)] = {make_surface(shape), object.material};
-            } else {
-                for (const scene::Object& child : shape.children) {
-                    add_leaves(leaves, child);
-                }
+// The leaf table's entries for the records of `lists` that give back their surfaces; `leaf_of` maps an id to its leaf.
+template <typename LeafOf>
+void add_leaves_from_records(LeafTable& leaves, const PrimitiveLists& lists, const std::vector<int>& leaf_materials,
+                             LeafOf leaf_of) {
+    lists.for_each([&](const auto& list) {
+        using Shape = typename std::decay_t<decltype(list)>::shape_type;
+        if constexpr (SurfaceFromRecord<Shape>) {
+            for (std::size_t i = 0; i < list.items.size(); ++i) {
+                const auto leaf = static_cast<std::size_t>(leaf_of(list.ids[i]));
+                leaves[leaf] = {surface_of(list.items[i]), leaf_materials[leaf]};
             }
-        },
-        object.shape);
+        }
+    });
 }
 
 // What brute force spends on the object per packet, in sphere tests (relative_test_cost): a CSG object its
@@ -87,7 +116,7 @@ bool is_finite(const scene::Bounds& bounds) {
 // double, then once to float), so the float records hold small numbers.
 class Compiler {
 public:
-    Compiler(const scene::Scene& scene, Accel accel, std::vector<scene::Mesh>* given_up)
+    Compiler(const scene::Scene& scene, Accel accel, scene::Scene* given_up)
         : origin_(origin_of(scene)),
           moved_(origin_ == scene::Vec3{0, 0, 0} ? std::nullopt
                                                  : std::optional<scene::Scene>(scene::moved(scene, 1, -origin_))),
@@ -98,6 +127,7 @@ public:
     CompiledScene run() {
         CompiledScene out(scene_);
         out.origin = origin_;
+        give_up(&scene::Scene::leaf_paths);  // never read here
         for (const scene::Material& m : scene_.materials) {
             out.materials.push_back({Color(m.color), static_cast<float>(m.ambient), static_cast<float>(m.diffuse),
                                      static_cast<float>(m.phong), static_cast<float>(m.phong_size),
@@ -148,7 +178,7 @@ public:
                 bounds = {bound.min, bound.max};
                 out.csg_objects.push_back(std::move(compiled));
             } else {
-                item = add_primitive(out.primitives, object, object.leaf, transmission_of(object));
+                item = add_primitive(out.primitives, object, object.leaf, transmission_of(object), apart_);
                 bounds = scene::bounds(object);
             }
             if (!is_finite(bounds)) {
@@ -170,34 +200,20 @@ public:
                                      BvhItem{instance_list, instance_index++});
             }
         }
-        if (with_bvh) {
-            add_bvh(out, std::move(bounded), unbounded, scene_.has_transparency());
-        }
-        // For the lists CompiledScene::flat names: a BVH over no bounded item is empty, and then every ray tests
-        // `primitives`.
-        const bool in_bvh = !out.bvh.empty();
+        // The last reading of the scene's objects: they (72 bytes each) are given up before the build, and neither
+        // they nor the build's arrays are held beside the leaf table (48 bytes a leaf), made from the records after.
+        const bool in_bvh = with_bvh && !bounded.empty();
         add_culling_bounds(in_bvh ? out.unbounded : out.primitives, in_bvh);
-        // After the build too: its arrays and the table (48 bytes a leaf) are never held at once.
-        out.leaves.assign(scene_.leaf_paths.size(), instance_leaves);
-        for (const scene::Object& object : scene_.objects) {
-            add_leaves(out.leaves, object);
+        out.any_transparency = scene_.has_transparency();  // reads the objects' materials
+        give_up(&scene::Scene::objects);
+        if (with_bvh) {
+            add_bvh(out, std::move(bounded), unbounded, out.any_transparency);
         }
-        std::uint32_t mesh_index = 0;  // as add_mesh compiled them
-        for (const scene::Mesh& mesh : scene_.meshes) {
-            if (!mesh.placement) {
-                out.leaves[static_cast<std::size_t>(mesh.leaf)] = {MeshSurface{mesh_index++}, mesh.material};
-            }
-        }
+        add_leaf_table(out, instance_leaves);
         // After the build, which keeps their order: its arrays and a million records (116 MB) are never held at once.
         add_instances(out, instance_leaves.size());
-        out.any_transparency = scene_.has_transparency();
         // No mesh is read again: the scene's (136 bytes an instance) go before the boxes come.
-        if (moved_) {
-            std::vector<scene::Mesh>().swap(moved_->meshes);
-        }
-        if (given_up_ != nullptr) {
-            std::vector<scene::Mesh>().swap(*given_up_);
-        }
+        give_up(&scene::Scene::meshes);
         add_instance_boxes(out);
         for (const scene::Light& light : scene_.lights) {
             out.lights.push_back({Vec3(light.position), Color(light.color)});
@@ -213,6 +229,36 @@ public:
     }
 
 private:
+    // The primitives' entries from their records, the leaves kept apart, and the meshes'.
+    void add_leaf_table(CompiledScene& out, const std::vector<std::int32_t>& instance_leaves) const {
+        out.leaves.assign(scene_.leaf_materials.size(), instance_leaves);
+        add_leaves_from_records(out.leaves, out.primitives, scene_.leaf_materials,
+                                [](std::int32_t leaf) { return leaf; });
+        for (const CsgObject& csg : out.csg_objects) {
+            add_leaves_from_records(out.leaves, csg.leaves, scene_.leaf_materials,
+                                    [&](std::int32_t slot) { return csg.slot_leaf[static_cast<std::size_t>(slot)]; });
+        }
+        for (const LeafApart& kept : apart_) {
+            out.leaves[static_cast<std::size_t>(kept.leaf)] = kept.entry;
+        }
+        std::uint32_t mesh_index = 0;  // as add_mesh compiled them
+        for (const scene::Mesh& mesh : scene_.meshes) {
+            if (!mesh.placement) {
+                out.leaves[static_cast<std::size_t>(mesh.leaf)] = {MeshSurface{mesh_index++}, mesh.material};
+            }
+        }
+    }
+
+    // Empties the list in the re-based copy, if there is one, and in the caller's scene if it gave it up.
+    template <typename List>
+    void give_up(List scene::Scene::*list) {
+        for (scene::Scene* scene : {moved_ ? &*moved_ : nullptr, given_up_}) {
+            if (scene != nullptr) {
+                scene->*list = List();
+            }
+        }
+    }
+
     // The BVH over `bounded`; the rest in the flat lists every ray tests, in their compiled order.
     static void add_bvh(CompiledScene& out, LargeArray<BvhInput> bounded, const std::vector<BvhItem>& unbounded,
                         bool keep_triangle_file_order) {
@@ -257,8 +303,7 @@ private:
     }
 
     // The bounding spheres tile culling reads, for the lists every ray tests (CompiledScene::flat: every
-    // primitive's, in file order, or with a BVH the unbounded ones'): made last, so that they are never held beside
-    // a BVH's build for the primitives it takes (32 bytes each).
+    // primitive's, in file order, or with a BVH only the unbounded ones', so that a BVH's primitives hold none).
     void add_culling_bounds(PrimitiveLists& flat, bool only_unbounded) const {
         for (const scene::Object& object : scene_.objects) {
             std::visit(
@@ -481,7 +526,7 @@ private:
             } else {
                 int slot = static_cast<int>(compiled.slot_leaf.size());
                 compiled.slot_leaf.push_back(child.leaf);
-                add_primitive(compiled.leaves, child, slot, transmission_of(child));
+                add_primitive(compiled.leaves, child, slot, transmission_of(child), apart_);
                 children.push_back(static_cast<int>(compiled.nodes.size()));
                 compiled.nodes.push_back({scene::CsgOp::union_, 0, 0, slot});
             }
@@ -497,7 +542,8 @@ private:
     std::optional<scene::Scene> moved_;
     const scene::Scene& scene_;
     Accel accel_;
-    std::vector<scene::Mesh>* given_up_;  // compile()'s
+    scene::Scene* given_up_;  // compile()'s
+    std::vector<LeafApart> apart_;
 };
 
 }  // namespace
@@ -536,7 +582,7 @@ scene::Vec3 origin_of(const scene::Scene& scene) {
     return around_eye < around_world_origin ? eye : scene::Vec3{0, 0, 0};
 }
 
-CompiledScene compile(const scene::Scene& scene, Accel accel, std::vector<scene::Mesh>* given_up) {
+CompiledScene compile(const scene::Scene& scene, Accel accel, scene::Scene* given_up) {
     return Compiler(scene, accel, given_up).run();
 }
 

@@ -326,9 +326,10 @@ struct CompiledScene {
 };
 
 // `accel`: automatic builds a BVH where brute force would cost more than bvh_crossover sphere tests (tracer.h).
-// `given_up`, if given, is `scene`'s meshes, emptied once compiled, before the instances' boxes are made.
-CompiledScene compile(const scene::Scene& scene, Accel accel = Accel::automatic,
-                      std::vector<scene::Mesh>* given_up = nullptr);
+// `given_up`, if given, is `scene` itself, whose leaf paths, objects and meshes are emptied as soon as compiling has
+// read them: the paths first (compiling reads none), the objects before the BVH is built, the meshes before the
+// instances' boxes are made.
+CompiledScene compile(const scene::Scene& scene, Accel accel = Accel::automatic, scene::Scene* given_up = nullptr);
 
 // The instance `record`'s box in the world: its shape's box carried out (|L|·half extent about L·centre + t) and
 // padded by bvh_padding of its largest |coordinate|, as the BVH pads the boxes it holds (bvh.h), which far exceeds the

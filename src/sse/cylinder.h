@@ -48,6 +48,13 @@ inline CylinderShape make_shape(const scene::Cylinder& cylinder) {
             broadcast(Vec3(middle)), vfloat4(static_cast<float>(widened * widened))};
 }
 
+// The surface again from the record, once the scene's objects are given up (compiled_scene.cpp): as a sphere's radius
+// (sphere.h).
+inline CylinderSurface surface_of(const CylinderShape& cylinder) {
+    return {lane(cylinder.base, 0), lane(cylinder.axis, 0), std::sqrt(cylinder.radius_squared.lane(0)),
+            cylinder.height.lane(0)};
+}
+
 // Face codes.
 constexpr int cylinder_side = 0;
 constexpr int cylinder_base_cap = 1;  // outward normal −axis

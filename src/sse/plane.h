@@ -26,6 +26,11 @@ inline PlaneSurface make_surface(const scene::Plane& plane) {
     return {Vec3(plane.normal), static_cast<float>(plane.offset)};
 }
 
+// The surface again from the record, once the scene's objects are given up (compiled_scene.cpp).
+inline PlaneSurface surface_of(const PlaneShape& plane) {
+    return {lane(plane.normal, 0), plane.offset.lane(0)};
+}
+
 // t = (d − n·o) / (n·d), as in the reference (reference/plane.h). Moving out of the half-space the span
 // is (−∞, t]; moving in, [t, +∞); parallel, the whole line if the origin is strictly inside, else none.
 template <typename P>

@@ -5,6 +5,8 @@
 #include "scene/geometry.h"
 #include "sse/span4.h"
 
+#include <cmath>
+
 namespace twinray::sse {
 
 // 16 bytes: a BVH leaf's four spheres are one cache line (64 bytes a sphere stored broadcast). Four shuffles a
@@ -28,6 +30,13 @@ inline SphereShape make_shape(const scene::Sphere& sphere) {
 
 inline SphereSurface make_surface(const scene::Sphere& sphere) {
     return {Vec3(sphere.center), static_cast<float>(sphere.radius)};
+}
+
+// The surface again from the record, once the scene's objects are given up (compiled_scene.cpp): √fl(r²) is r for
+// every float r whose square is normal and finite (checked for all of them); the compiler keeps the few others apart.
+inline SphereSurface surface_of(const SphereShape& sphere) {
+    const Packed4& packed = sphere.center_radius_squared;
+    return {{packed.x, packed.y, packed.z}, std::sqrt(packed.w)};
 }
 
 // Same formula as the reference (reference/sphere.h): with f = o − c, b = f·d,

@@ -140,8 +140,8 @@ std::string precision_name(const Precision& precision) {
 Tracer::Tracer(const scene::Scene& scene, const Precision& precision, Accel accel)
     : Tracer(std::make_unique<CompiledScene>(compile(scene, accel)), precision) {}
 
-Tracer::Tracer(scene::Scene& scene, GiveUpMeshes, const Precision& precision, Accel accel)
-    : Tracer(std::make_unique<CompiledScene>(compile(scene, accel, &scene.meshes)), precision) {}
+Tracer::Tracer(scene::Scene& scene, GiveUpGeometry, const Precision& precision, Accel accel)
+    : Tracer(std::make_unique<CompiledScene>(compile(scene, accel, &scene)), precision) {}
 
 Tracer::Tracer(std::unique_ptr<CompiledScene> compiled, const Precision& precision)
     : scene_(std::move(compiled)), precision_(precision) {
