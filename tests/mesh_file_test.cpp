@@ -204,7 +204,7 @@ TEST_P(MeshFileRefusal, NamesTheFileWhereAndWhat) {
 }
 
 const std::string over_eleven =
-    ": more than the limit of 11 primitives (about 210 bytes of memory each when rendered; "
+    ": more than the limit of 11 primitives (about 165 bytes of memory each when rendered; "
     "no scene may hold more than 4194304)";
 
 INSTANTIATE_TEST_SUITE_P(
@@ -223,7 +223,7 @@ INSTANTIATE_TEST_SUITE_P(
         Refused{"cube.obj", 11, "line 17", "this face brings the triangles to 12" + over_eleven},
         Refused{"cube_ascii.ply", 5, "header",
                 "element face declares 6 faces, each at least one triangle: more than the limit of 5 primitives "
-                "(about 210 bytes of memory each when rendered; no scene may hold more than 4194304)"},
+                "(about 165 bytes of memory each when rendered; no scene may hold more than 4194304)"},
         Refused{"cube_ascii.ply", 11, "line 24 (face[5])", "this face brings the triangles to 12" + over_eleven},
         Refused{"cube_binary.ply", 11, "header",
                 "element face declares 12 faces, each at least one triangle" + over_eleven},

@@ -245,13 +245,13 @@ struct Scene {
 constexpr int max_image_side = 16384;
 constexpr int max_trace_depth = 64;
 // Primitives (leaves, CSG children included, and every triangle of a mesh) in one scene. Memory sets this limit, not the ids (int32, 2^31):
-// `twinray render` peaks at about 210 bytes per primitive (the scene model, the compiled scene and the BVH;
-// docs/scene-format.md, "Limits"), so a scene at the limit needs about 0.9 GB (the reference tracer's render
+// `twinray render` peaks at about 165 bytes per primitive (the scene model, the compiled scene and the BVH;
+// docs/scene-format.md, "Limits"), so a scene at the limit needs about 0.7 GB (the reference tracer's render
 // about 2 GB). Four times the most `twinray generate` writes. The loader refuses a scene past it as it reads,
 // before it holds more.
 constexpr std::size_t max_scene_primitives = std::size_t{1} << 22;  // 4 194 304
 // What one primitive costs at the peak of a render, measured (docs/scene-format.md): for messages.
-constexpr std::size_t bytes_per_primitive = 210;
+constexpr std::size_t bytes_per_primitive = 165;
 
 // Primitives in one top-level CSG object. The SSE tracer keeps a CSG object's span lists in
 // fixed-capacity arrays on the stack (at most max_csg_leaves + 1 spans), so the loader refuses more.
