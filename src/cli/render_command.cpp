@@ -158,8 +158,7 @@ std::vector<MeshLine> mesh_lines(const scene::Scene& scene) {
     }
     for (std::size_t i = 0; i < scene.mesh_shapes.size(); ++i) {
         const std::size_t count = instances[i];
-        lines.push_back({"shape:       ", scene::key_path("shapes", scene.mesh_shapes[i].name),
-                         scene.mesh_shapes[i].data,
+        lines.push_back({"shape:       ", scene.mesh_shapes[i].name, scene.mesh_shapes[i].data,
                          "; placed by " + std::to_string(count) + (count == 1 ? " instance" : " instances")});
     }
     return lines;

@@ -138,7 +138,7 @@ public:
         }
         // Each mesh shape once; its instances name it (POV-Ray copies a declared mesh's reference, not its data).
         for (std::size_t i = 0; i < scene_.mesh_shapes.size(); ++i) {
-            line(0, "// " + scene::key_path("shapes", scene_.mesh_shapes[i].name));
+            line(0, "// " + scene_.mesh_shapes[i].name);
             line(0, "#declare " + shape_identifier(i) + " = mesh2 {");
             mesh_geometry(*scene_.mesh_shapes[i].data);
             line(0, "}");

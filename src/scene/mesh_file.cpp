@@ -26,10 +26,13 @@
 namespace twinray::scene {
 namespace {
 
-// What the reader may send at most for a mesh at the limit: vertices and normals (three per triangle),
-// triangles, and a megabyte of counts and warnings.
+// What the reader may send at most for meshes at the limit: vertices and normals (three per triangle), triangles,
+// as many nodes (their mesh, matrix and a name of at most a few hundred bytes), and a megabyte of counts and
+// warnings.
 std::size_t max_message_size(std::size_t max_triangles) {
-    return (std::size_t{1} << 20) + max_triangles * (3 * 2 * sizeof(Vec3) + sizeof(std::array<std::uint32_t, 3>));
+    constexpr std::size_t node_size = 2 * sizeof(std::uint64_t) + sizeof(math::Matrix3<double>) + sizeof(Vec3) + 256;
+    return (std::size_t{1} << 20) +
+           max_triangles * (3 * 2 * sizeof(Vec3) + sizeof(std::array<std::uint32_t, 3>) + node_size);
 }
 
 // Before the reader is started: a file that cannot be opened, or is no regular file (a FIFO would block the
@@ -54,10 +57,11 @@ void check_extension(const std::string& name, const std::filesystem::path& file)
     std::string extension = file.extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (extension != ".obj" && extension != ".ply" && extension != ".stl") {
-        throw SceneError(
-            name, "",
-            "unknown mesh file extension \"" + file.extension().string() + "\": twinray reads .obj, .ply and .stl");
+    if (extension != ".obj" && extension != ".ply" && extension != ".stl" && extension != ".gltf" &&
+        extension != ".glb") {
+        throw SceneError(name, "",
+                         "unknown mesh file extension \"" + file.extension().string() +
+                             "\": twinray reads .obj, .ply, .stl, .gltf and .glb");
     }
 }
 
@@ -76,24 +80,29 @@ std::string seconds(std::chrono::milliseconds duration) {
     return format_number(static_cast<double>(duration.count()) / 1000.0) + " s";
 }
 
-// The reader's message as a mesh, everything it says checked again.
-MeshFileResult checked(wire::Message message, std::size_t max_triangles) {
-    MeshData& mesh = message.mesh;
-    const auto wrong = [](const std::string& what) { throw std::runtime_error(what); };
-    if (mesh.triangles.empty() || mesh.triangles.size() > max_triangles || mesh.vertices.size() > 3 * max_triangles) {
-        wrong(std::to_string(mesh.triangles.size()) + " triangles and " + std::to_string(mesh.vertices.size()) +
-              " vertices");
+[[noreturn]] void wrong(const std::string& what) {
+    throw std::runtime_error(what);
+}
+
+bool is_finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// One of the reader's meshes checked again; its degenerate triangles listed.
+void check_mesh(MeshData& mesh, std::size_t index) {
+    const std::string which = "mesh " + std::to_string(index) + " ";
+    if (mesh.triangles.empty()) {
+        wrong(which + "has no triangles");
     }
     if (!mesh.normals.empty() && mesh.normals.size() != mesh.vertices.size()) {
-        wrong(std::to_string(mesh.normals.size()) + " normals for " + std::to_string(mesh.vertices.size()) +
-              " vertices");
+        wrong(which + "has " + std::to_string(mesh.normals.size()) + " normals for " +
+              std::to_string(mesh.vertices.size()) + " vertices");
     }
     if (mesh.smooth != !mesh.normals.empty()) {
         wrong("smooth without normals, or normals without smooth");
     }
-    const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-    if (!std::all_of(mesh.vertices.begin(), mesh.vertices.end(), finite) ||
-        !std::all_of(mesh.normals.begin(), mesh.normals.end(), finite)) {
+    if (!std::all_of(mesh.vertices.begin(), mesh.vertices.end(), is_finite) ||
+        !std::all_of(mesh.normals.begin(), mesh.normals.end(), is_finite)) {
         wrong("a value that is not finite");
     }
     // The loader makes normals unit length: a zero one would become NaN.
@@ -103,13 +112,43 @@ MeshFileResult checked(wire::Message message, std::size_t max_triangles) {
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const auto& [a, b, c] = mesh.triangles[t];
         if (std::max({a, b, c}) >= mesh.vertices.size()) {
-            wrong("triangle " + std::to_string(t) + " has an index out of range");
+            wrong(which + "triangle " + std::to_string(t) + " has an index out of range");
         }
         if (a == b || b == c || c == a) {
             mesh.degenerate.push_back(static_cast<std::uint32_t>(t));
         }
     }
-    return {std::move(mesh), std::move(message.texts)};
+}
+
+// The reader's message as meshes and nodes, everything it says checked again (the receiving end of the wire has
+// checked each node's mesh index against the meshes sent).
+MeshFileResult checked(wire::Message message, std::size_t max_triangles) {
+    std::size_t triangles = 0;
+    std::size_t vertices = 0;
+    for (const MeshData& mesh : message.meshes) {
+        triangles += mesh.triangles.size();
+        vertices += mesh.vertices.size();
+    }
+    if (message.meshes.empty() || message.nodes.empty() || triangles > max_triangles || vertices > 3 * max_triangles ||
+        message.nodes.size() > max_triangles) {
+        wrong(std::to_string(message.meshes.size()) + " meshes of " + std::to_string(triangles) + " triangles and " +
+              std::to_string(vertices) + " vertices, placed by " + std::to_string(message.nodes.size()) + " nodes");
+    }
+    for (std::size_t m = 0; m < message.meshes.size(); ++m) {
+        check_mesh(message.meshes[m], m);
+    }
+    std::vector<bool> placed(message.meshes.size(), false);
+    for (const MeshNode& node : message.nodes) {
+        if (!is_finite(node.translation) || !is_finite(node.linear.row[0]) || !is_finite(node.linear.row[1]) ||
+            !is_finite(node.linear.row[2])) {
+            wrong("a node's matrix is not finite");
+        }
+        placed[node.mesh] = true;
+    }
+    if (std::find(placed.begin(), placed.end(), false) != placed.end()) {
+        wrong("a mesh that no node places");
+    }
+    return {std::move(message.meshes), std::move(message.nodes), std::move(message.texts)};
 }
 
 }  // namespace
@@ -172,7 +211,9 @@ MeshFileResult mesh_from_reader_output(const std::string& file, std::string outp
     }
     try {
         MeshFileResult result = checked(std::move(message), max_triangles);
-        result.mesh.file = file;
+        for (MeshData& mesh : result.meshes) {
+            mesh.file = file;
+        }
         return result;
     } catch (const std::runtime_error& error) {
         throw malformed(error);

@@ -1,9 +1,11 @@
-// What the mesh reader process (meshio/reader_main.cpp) sends twinray on its standard output: a mesh or a
-// refusal, in this machine's byte order (both ends are one build). The receiving end (mesh_file.cpp) trusts
-// none of it: every count is checked against what the bytes can hold before anything is allocated, and the
-// mesh itself is checked again.
+// What the mesh reader process (meshio/reader_main.cpp) sends twinray on its standard output: a file's meshes and
+// the nodes that place them (an OBJ, PLY or STL file's one mesh placed once, as it stands), or a refusal, in this
+// machine's byte order (both ends are one build). The receiving end (mesh_file.cpp) trusts none of it: every count
+// is checked against what the bytes can hold before anything is allocated, and the meshes and nodes are checked
+// again.
 #pragma once
 
+#include "scene/mesh_node.h"
 #include "scene/scene.h"
 
 #include <unistd.h>
@@ -21,13 +23,16 @@
 namespace twinray::scene::wire {
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_trivially_copyable_v<Vec3>);
+static_assert(sizeof(math::Matrix3<double>) == 9 * sizeof(double) &&
+              std::is_trivially_copyable_v<math::Matrix3<double>>);
 
-constexpr std::uint64_t magic = 0x31687365'6d727774;  // "twrmesh1" in this machine's byte order
+constexpr std::uint64_t magic = 0x32687365'6d727774;  // "twrmesh2" in this machine's byte order
 enum class Kind : std::uint8_t { mesh = 1, refusal = 2 };
 
 struct Message {
     Kind kind = Kind::mesh;
-    MeshData mesh;                   // for Kind::mesh: vertices, triangles, normals, smooth
+    std::vector<MeshData> meshes;    // for Kind::mesh: vertices, triangles, normals, smooth of each
+    std::vector<MeshNode> nodes;     // for Kind::mesh: each node that places one of `meshes`
     std::vector<std::string> texts;  // warnings; for Kind::refusal: location and problem
 };
 
@@ -50,16 +55,26 @@ inline bool write_all(int descriptor, const void* data, std::size_t size) {
 
 inline bool send(int descriptor, const Message& message) {
     const auto put = [descriptor](std::uint64_t value) { return write_all(descriptor, &value, sizeof value); };
+    const auto put_text = [&](const std::string& text) {
+        return put(text.size()) && write_all(descriptor, text.data(), text.size());
+    };
     bool ok = put(magic) && put(static_cast<std::uint64_t>(message.kind)) && put(message.texts.size());
     for (const std::string& text : message.texts) {
-        ok = ok && put(text.size()) && write_all(descriptor, text.data(), text.size());
+        ok = ok && put_text(text);
     }
     if (message.kind == Kind::mesh) {
-        const MeshData& mesh = message.mesh;
-        ok = ok && put(mesh.vertices.size()) && put(mesh.triangles.size()) && put(mesh.normals.size()) &&
-             put(mesh.smooth) && write_all(descriptor, mesh.vertices.data(), mesh.vertices.size() * sizeof(Vec3)) &&
-             write_all(descriptor, mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0])) &&
-             write_all(descriptor, mesh.normals.data(), mesh.normals.size() * sizeof(Vec3));
+        ok = ok && put(message.meshes.size());
+        for (const MeshData& mesh : message.meshes) {
+            ok = ok && put(mesh.vertices.size()) && put(mesh.triangles.size()) && put(mesh.normals.size()) &&
+                 put(mesh.smooth) && write_all(descriptor, mesh.vertices.data(), mesh.vertices.size() * sizeof(Vec3)) &&
+                 write_all(descriptor, mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0])) &&
+                 write_all(descriptor, mesh.normals.data(), mesh.normals.size() * sizeof(Vec3));
+        }
+        ok = ok && put(message.nodes.size());
+        for (const MeshNode& node : message.nodes) {
+            ok = ok && put(node.mesh) && write_all(descriptor, &node.linear, sizeof node.linear) &&
+                 write_all(descriptor, &node.translation, sizeof node.translation) && put_text(node.name);
+        }
     }
     return ok;
 }
@@ -98,23 +113,41 @@ inline Message receive(std::string_view bytes) {
         throw std::runtime_error("unknown kind " + std::to_string(kind));
     }
     message.kind = static_cast<Kind>(kind);
-    message.texts.resize(take_count(sizeof(std::uint64_t)));
-    for (std::string& text : message.texts) {
+    const auto take_text = [&](std::string& text) {
         text.resize(take_count(1));
         take(text.data(), text.size());
+    };
+    message.texts.resize(take_count(sizeof(std::uint64_t)));
+    for (std::string& text : message.texts) {
+        take_text(text);
     }
     if (message.kind == Kind::refusal && message.texts.size() != 2) {
         throw std::runtime_error("a refusal without its location and problem");
     }
     if (message.kind == Kind::mesh) {
-        MeshData& mesh = message.mesh;
-        mesh.vertices.resize(take_count(sizeof(Vec3)));
-        mesh.triangles.resize(take_count(sizeof(mesh.triangles[0])));
-        mesh.normals.resize(take_count(sizeof(Vec3)));
-        mesh.smooth = take_number() != 0;
-        take(mesh.vertices.data(), mesh.vertices.size() * sizeof(Vec3));
-        take(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]));
-        take(mesh.normals.data(), mesh.normals.size() * sizeof(Vec3));
+        // A mesh takes its four counts at least; a node its mesh, its matrix and its name's length.
+        message.meshes.resize(take_count(4 * sizeof(std::uint64_t)));
+        for (MeshData& mesh : message.meshes) {
+            mesh.vertices.resize(take_count(sizeof(Vec3)));
+            mesh.triangles.resize(take_count(sizeof(mesh.triangles[0])));
+            mesh.normals.resize(take_count(sizeof(Vec3)));
+            mesh.smooth = take_number() != 0;
+            take(mesh.vertices.data(), mesh.vertices.size() * sizeof(Vec3));
+            take(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]));
+            take(mesh.normals.data(), mesh.normals.size() * sizeof(Vec3));
+        }
+        message.nodes.resize(take_count(2 * sizeof(std::uint64_t) + sizeof(math::Matrix3<double>) + sizeof(Vec3)));
+        for (MeshNode& node : message.nodes) {
+            const std::uint64_t mesh = take_number();
+            if (mesh >= message.meshes.size()) {
+                throw std::runtime_error("a node places mesh " + std::to_string(mesh) + " of " +
+                                         std::to_string(message.meshes.size()));
+            }
+            node.mesh = static_cast<std::uint32_t>(mesh);
+            take(&node.linear, sizeof node.linear);
+            take(&node.translation, sizeof node.translation);
+            take_text(node.name);
+        }
     }
     if (!bytes.empty()) {
         throw std::runtime_error(std::to_string(bytes.size()) + " bytes follow its end");

@@ -235,7 +235,7 @@ MeshData read_inline_mesh(const Node& node, std::size_t triangles_allowed) {
 }
 
 // A mesh file (scene/mesh_file.h), relative to the scene file's folder; its refusal keeps the file's own
-// location (a line, an element) behind the JSON path of `file`.
+// location (a line, an element, a node) behind the JSON path of `file`.
 MeshFileResult read_mesh_from_file(const Node& node, const Node& file, const std::filesystem::path& base_directory,
                                    std::size_t triangles_allowed) {
     for (std::string_view inline_key : {"vertices", "triangles", "normals"}) {
@@ -246,15 +246,17 @@ MeshFileResult read_mesh_from_file(const Node& node, const Node& file, const std
     }
     const std::string_view name = require_string(file);
     if (name.empty()) {
-        refuse(file.path(), "expected the name of an OBJ, PLY or STL file, got an empty string");
+        refuse(file.path(), "expected the name of an OBJ, PLY, STL or glTF file, got an empty string");
     }
     const std::filesystem::path path = base_directory / std::filesystem::path(std::string(name));
     try {
         MeshFileResult result = read_mesh_file(path, triangles_allowed);
-        result.mesh.file = std::string(name);
-        // The readers pass the file's normals as written (non-zero, finite): unit length the same way as inline.
-        for (Vec3& normal : result.mesh.normals) {
-            normal = normalized(normal);
+        for (MeshData& mesh : result.meshes) {
+            mesh.file = std::string(name);
+            // The readers pass the file's normals as written (non-zero, finite): unit length the same way as inline.
+            for (Vec3& normal : mesh.normals) {
+                normal = normalized(normal);
+            }
         }
         return result;
     } catch (const SceneError& error) {
@@ -354,31 +356,34 @@ public:
         if (primitives_ == max_primitives_) {
             refuse(node.path(), over_primitive_limit("the instance", max_primitives_));
         }
-        ++primitives_;
         const MeshShape& mesh = scene_.mesh_shapes[static_cast<std::size_t>(shape.mesh)];
-        const int leaf = static_cast<int>(scene_.leaf_paths.size());
-        const int own_material = mesh.material >= 0 ? mesh.material : material;
-        scene_.leaf_paths.push_back(node.path());
-        scene_.leaf_materials.push_back(own_material);
-        scene_.meshes.push_back(
-            Mesh{mesh.data, own_material, leaf, placement_of(to_world ? *to_world : identity_transform(), shape.mesh)});
+        add_instance(node.path(), mesh.material >= 0 ? mesh.material : material,
+                     to_world ? *to_world : identity_transform(), shape.mesh);
         return Object{};
     }
 
-    // A mesh of `shapes`: its vertices in its own space, its triangles counted towards the limit once.
+    // A mesh of `shapes`: its vertices in its own space (a file's nodes' meshes placed into one), its triangles
+    // counted towards the limit once.
     MeshShape read_mesh_shape(const Node& node, std::string name) {
         require_keys_of(node, require_object_kind(node).schema);
         const int material =
             read_or(node, "material", -1, [this](const Node& value) { return require_material_name(value); });
-        return MeshShape{std::move(name), read_mesh_data(node), material};
+        MeshFileResult contents = read_mesh_contents(node);
+        return MeshShape{std::move(name), finished_mesh(node, merged_mesh(node, std::move(contents))), material};
     }
 
-    // A top-level mesh: one leaf, its triangles counted towards the primitive limit.
+    // A top-level mesh: one leaf, its triangles counted towards the primitive limit; or, for a file whose nodes
+    // place its meshes otherwise than once each as they stand, an instance of each mesh for each node.
     void read_mesh(const Node& node) {
         require_keys_of(node, require_object_kind(node).schema);
         const int material =
             read_or(node, "material", 0, [this](const Node& name) { return require_material_name(name); });
-        std::shared_ptr<const MeshData> data = read_mesh_data(node);
+        MeshFileResult contents = read_mesh_contents(node);
+        if (!placed_as_they_stand(contents)) {
+            read_mesh_instances(node, material, std::move(contents));
+            return;
+        }
+        std::shared_ptr<const MeshData> data = finished_mesh(node, merged_mesh(node, std::move(contents)));
         const int leaf = static_cast<int>(scene_.leaf_paths.size());
         scene_.leaf_paths.push_back(node.path());
         scene_.leaf_materials.push_back(material);
@@ -386,19 +391,96 @@ public:
     }
 
 private:
-    // A mesh's vertices (placed by its own transform), triangles and normals, inline or from its file.
-    std::shared_ptr<const MeshData> read_mesh_data(const Node& node) {
+    // A mesh object's meshes and the nodes that place them: its file's, or its inline mesh placed once as it stands.
+    MeshFileResult read_mesh_contents(const Node& node) {
         const std::size_t triangles_allowed = max_primitives_ - primitives_;
-        auto data = std::make_shared<MeshData>();
-        if (const std::optional<Node> file = find_key(node, "file")) {
-            MeshFileResult read = read_mesh_from_file(node, *file, base_directory_, triangles_allowed);
-            *data = std::move(read.mesh);
-            for (const std::string& warning : read.warnings) {
-                scene_.warnings.push_back(file->path() + ": " + data->file + ": " + warning);
-            }
-        } else {
-            *data = read_inline_mesh(node, triangles_allowed);
+        const std::optional<Node> file = find_key(node, "file");
+        if (!file) {
+            MeshFileResult contents;
+            contents.meshes.push_back(read_inline_mesh(node, triangles_allowed));
+            contents.nodes.emplace_back();
+            return contents;
         }
+        MeshFileResult read = read_mesh_from_file(node, *file, base_directory_, triangles_allowed);
+        for (const std::string& warning : read.warnings) {
+            scene_.warnings.push_back(file->path() + ": " + read.meshes.front().file + ": " + warning);
+        }
+        return read;
+    }
+
+    // Every mesh placed by one node at the identity: the file's meshes are where they are to be drawn.
+    static bool placed_as_they_stand(const MeshFileResult& contents) {
+        // Every mesh is placed by a node (mesh_file.h), so as many nodes as meshes place each once.
+        return contents.nodes.size() == contents.meshes.size() &&
+               std::all_of(contents.nodes.begin(), contents.nodes.end(),
+                           [](const MeshNode& file_node) { return file_node.is_identity(); });
+    }
+
+    // A file's node transform; refused, at the mesh object's `file`, where it may not place anything.
+    static Transform node_transform(const Node& node, const MeshFileResult& contents, const MeshNode& file_node,
+                                    const std::optional<Transform>& own) {
+        const Transform of_node = affine(file_node.linear, file_node.translation);
+        const Transform to_world = own ? math::composed(*own, of_node) : of_node;
+        if (const std::optional<std::string> problem = why_unusable(to_world)) {
+            refuse(at(node, "file").path(), contents.meshes.front().file + ": node " + in_quotes(file_node.name) +
+                                                (own ? ", followed by the object's transform: " : ": ") + *problem);
+        }
+        return to_world;
+    }
+
+    // The file's meshes placed by its nodes (vertices in double, normals through the inverse transpose), all in one
+    // mesh; what the nodes place counted towards the limit before anything is copied.
+    MeshData merged_mesh(const Node& node, MeshFileResult contents) {
+        if (contents.nodes.size() == 1 && contents.nodes.front().is_identity()) {
+            return std::move(contents.meshes.front());
+        }
+        std::size_t triangles = 0;
+        std::size_t vertices = 0;
+        for (const MeshNode& file_node : contents.nodes) {
+            triangles += contents.meshes[file_node.mesh].triangles.size();
+            vertices += contents.meshes[file_node.mesh].vertices.size();
+        }
+        const std::size_t triangles_allowed = max_primitives_ - primitives_;
+        const std::string& file = contents.meshes.front().file;
+        if (triangles > triangles_allowed || vertices > 3 * triangles_allowed) {
+            refuse(at(node, "file").path(),
+                   file + ": " +
+                       over_primitive_limit("its nodes place " + std::to_string(contents.nodes.size()) + " meshes of " +
+                                                std::to_string(triangles) + " triangles and " +
+                                                std::to_string(vertices) + " vertices in all",
+                                            triangles_allowed));
+        }
+        const bool every_mesh_has_normals = std::all_of(contents.meshes.begin(), contents.meshes.end(),
+                                                        [](const MeshData& mesh) { return mesh.smooth; });
+        if (!every_mesh_has_normals && std::any_of(contents.meshes.begin(), contents.meshes.end(),
+                                                   [](const MeshData& mesh) { return mesh.smooth; })) {
+            scene_.warnings.push_back(at(node, "file").path() + ": " + file +
+                                      ": normals are not used: some of its meshes have none");
+        }
+        MeshData merged;
+        merged.file = file;
+        merged.smooth = every_mesh_has_normals;
+        merged.vertices.reserve(vertices);
+        merged.triangles.reserve(triangles);
+        for (const MeshNode& file_node : contents.nodes) {
+            MeshData placed = contents.meshes[file_node.mesh];
+            place(placed, node_transform(node, contents, file_node, std::nullopt));
+            const auto first = static_cast<std::uint32_t>(merged.vertices.size());
+            merged.vertices.insert(merged.vertices.end(), placed.vertices.begin(), placed.vertices.end());
+            for (const std::array<std::uint32_t, 3>& triangle : placed.triangles) {
+                merged.triangles.push_back({first + triangle[0], first + triangle[1], first + triangle[2]});
+            }
+            if (every_mesh_has_normals) {
+                merged.normals.insert(merged.normals.end(), placed.normals.begin(), placed.normals.end());
+            }
+        }
+        return merged;
+    }
+
+    // A mesh as a leaf or a shape holds it: shaded as `smooth` asks, in its own space; placed by its object's own
+    // transform; its degenerate triangles listed and its triangles counted.
+    std::shared_ptr<const MeshData> finished_mesh(const Node& node, MeshData mesh) {
+        auto data = std::make_shared<MeshData>(std::move(mesh));
         shade_mesh(node, *data);
         if (const std::optional<Transform> to_world = placed_by(node, std::nullopt)) {
             place(*data, *to_world);
@@ -406,6 +488,49 @@ private:
         data->degenerate = degenerate_triangles(*data);
         primitives_ += data->triangles.size();
         return data;
+    }
+
+    // A file's nodes at the top level: each of its meshes a mesh shape, read once and counted once; each node an
+    // instance of its mesh, one leaf counted one, placed by the node's world transform and then the object's own.
+    void read_mesh_instances(const Node& node, int material, MeshFileResult contents) {
+        std::size_t triangles = 0;
+        for (const MeshData& mesh : contents.meshes) {
+            triangles += mesh.triangles.size();
+        }
+        const std::size_t allowed = max_primitives_ - primitives_;
+        const std::string file = contents.meshes.front().file;
+        if (triangles > allowed || contents.nodes.size() > allowed - triangles) {
+            refuse(at(node, "file").path(),
+                   file + ": " +
+                       over_primitive_limit("its " + std::to_string(contents.meshes.size()) + " meshes of " +
+                                                std::to_string(triangles) + " triangles and the " +
+                                                std::to_string(contents.nodes.size()) + " nodes that place them",
+                                            allowed));
+        }
+        const std::optional<Transform> own = placed_by(node, std::nullopt);
+        const auto first_shape = static_cast<int>(scene_.mesh_shapes.size());
+        for (std::size_t m = 0; m < contents.meshes.size(); ++m) {
+            auto data = std::make_shared<MeshData>(std::move(contents.meshes[m]));
+            shade_mesh(node, *data);
+            data->degenerate = degenerate_triangles(*data);
+            scene_.mesh_shapes.push_back(MeshShape{file + " mesh " + std::to_string(m), std::move(data), -1});
+        }
+        primitives_ += triangles;
+        for (const MeshNode& file_node : contents.nodes) {
+            add_instance(node.path() + " node " + in_quotes(file_node.name), material,
+                         node_transform(node, contents, file_node, own),
+                         first_shape + static_cast<int>(file_node.mesh));
+        }
+    }
+
+    // An instance of mesh shape `shape`: one leaf, counted one towards the limit.
+    void add_instance(const std::string& path, int material, const Transform& to_world, int shape) {
+        ++primitives_;
+        const int leaf = static_cast<int>(scene_.leaf_paths.size());
+        scene_.leaf_paths.push_back(path);
+        scene_.leaf_materials.push_back(material);
+        scene_.meshes.push_back(Mesh{scene_.mesh_shapes[static_cast<std::size_t>(shape)].data, material, leaf,
+                                     placement_of(to_world, shape)});
     }
 
     const DeclaredShape& require_shape(const Node& instance) const {
@@ -520,7 +645,7 @@ void read_shapes(const std::vector<std::string>& material_names, std::size_t max
                 refuse(node.path(), over_primitive_limit("the mesh", max_primitives));
             }
             shape.mesh = static_cast<int>(scene.mesh_shapes.size());
-            scene.mesh_shapes.push_back(reader.read_mesh_shape(node, shape.name));
+            scene.mesh_shapes.push_back(reader.read_mesh_shape(node, key_path("shapes", shape.name)));
         } else {
             Scene scratch;
             std::size_t scratch_primitives = 0;

@@ -7,6 +7,7 @@
 #include "scene/scene.h"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,8 +28,10 @@ std::vector<std::string> material_names_of(const JsonValue& materials);
 
 // A "transform" list, its steps composed in the order they apply (docs/scene-format.md, "Transforms").
 Transform read_transform(const Node& list);
-// Refuses, at `where`, a transform (an object's, composed with its CSG ancestors') that is not finite or whose
-// condition number exceeds max_transform_condition.
+// Why a transform (an object's, composed with its CSG ancestors', or a mesh file's node's) may not place anything:
+// it is not finite, or its condition number exceeds max_transform_condition; nothing when it may.
+std::optional<std::string> why_unusable(const Transform& to_world);
+// Refuses, at `where`, a transform that why_unusable finds fault with.
 void require_usable(const Node& where, const Transform& to_world);
 
 // A shape of `shapes` (docs/scene-format.md, "Shapes and instances"): a mesh, read once (`mesh`: its index in

@@ -4,6 +4,7 @@
 #include "scene/placement.h"
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace twinray::scene {
@@ -127,19 +128,25 @@ Transform read_transform(const Node& list) {
     return out;
 }
 
-void require_usable(const Node& where, const Transform& to_world) {
+std::optional<std::string> why_unusable(const Transform& to_world) {
     if (!is_finite(to_world)) {
-        refuse(where.path(), "the transform's entries (or its inverse's) overflow double: not all finite");
+        return "the transform's entries (or its inverse's) overflow double: not all finite";
     }
-    double condition = condition_number(to_world);
+    const double condition = condition_number(to_world);
     if (!(condition <= max_transform_condition)) {
-        refuse(where.path(),
-               std::isinf(condition)
+        return std::isinf(condition)
                    ? std::string("the transform is singular (determinant 0): it flattens the object")
                    : "the transform is too badly conditioned: its condition number ‖L‖·‖L⁻¹‖ (Frobenius) is " +
                          format_number(condition) + ", the limit is " + format_number(max_transform_condition) +
                          " (a float ray carried into the object's space would lose a share κ·2⁻²⁴ of its size; "
-                         "an eccentricity of 1e4 passes)");
+                         "an eccentricity of 1e4 passes)";
+    }
+    return std::nullopt;
+}
+
+void require_usable(const Node& where, const Transform& to_world) {
+    if (const std::optional<std::string> problem = why_unusable(to_world)) {
+        refuse(where.path(), *problem);
     }
 }
 

@@ -154,7 +154,7 @@ std::string Scene::leaf_name(int leaf) const {
     if (mesh == nullptr || !mesh->placement) {
         return path;
     }
-    return path + " (" + key_path("shapes", mesh_shapes[static_cast<std::size_t>(mesh->placement->shape)].name) + ")";
+    return path + " (" + mesh_shapes[static_cast<std::size_t>(mesh->placement->shape)].name + ")";
 }
 
 ImageSize resolve_image_size(const Scene& scene, int requested_width, int requested_height) {

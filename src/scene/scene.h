@@ -167,10 +167,11 @@ struct Mesh {
     std::optional<Placement> placement;
 };
 
-// A mesh declared once in `shapes` and placed by instances: its vertices in its own space. `material`: the one
-// it names, which every instance keeps; -1 where it names none, so that each instance's applies.
+// A mesh declared once in `shapes`, or a mesh of a glTF file at the top level of `objects`, placed by instances: its
+// vertices in its own space. `material`: the one it names, which every instance keeps; -1 where it names none, so
+// that each instance's applies.
 struct MeshShape {
-    std::string name;
+    std::string name;  // what a hit on an instance names besides the instance: "shapes.tree", "truck.gltf mesh 2"
     std::shared_ptr<const MeshData> data;
     int material = -1;
 };
@@ -232,7 +233,7 @@ struct Scene {
     // The mesh or instance whose leaf this is, or null (meshes are in leaf order, as the loader reads them).
     const Mesh* mesh_of_leaf(int leaf) const;
     // What a hit names: the leaf's path, and for an instance of a mesh shape the shape it places,
-    // "objects[4] (shapes.tree)". An instance's path alone is held, so that a million of them fit in short strings.
+    // "objects[4] (shapes.tree)", "objects[3] node \"Wheel\" (truck.gltf mesh 2)". An instance's path alone is held, so that a million of them fit in short strings.
     std::string leaf_name(int leaf) const;
 
     // Filled by the loader beside leaf_paths: leaf index -> material index.

@@ -98,7 +98,7 @@ public:
     };
 
     MeshReading finish() {
-        MeshReading reading;
+        MeshReading reading = one_mesh_reading();
         if (triangles_.empty()) {
             refuse_at("", "no triangles: the file has " + std::to_string(vertices_.size()) + " vertices and no faces");
         }
@@ -116,10 +116,11 @@ public:
         if (!corner_normals_.empty()) {
             attach_normals(reading);
         }
-        reading.mesh.triangles = std::move(triangles_);
-        reading.mesh.vertices = std::move(vertices_);
-        if (reading.mesh.vertices.size() > max_vertices_for(max_triangles_)) {
-            refuse_too_many_vertices("", reading.mesh.vertices.size(), max_triangles_);
+        MeshData& mesh = reading.meshes.front();
+        mesh.triangles = std::move(triangles_);
+        mesh.vertices = std::move(vertices_);
+        if (mesh.vertices.size() > max_vertices_for(max_triangles_)) {
+            refuse_too_many_vertices("", mesh.vertices.size(), max_triangles_);
         }
         return reading;
     }
@@ -298,21 +299,12 @@ private:
             }
             normals[v] = given;  // made unit length by the loader, as inline normals are
         }
-        reading.mesh.normals = std::move(normals);
-        reading.mesh.smooth = true;
+        reading.meshes.front().normals = std::move(normals);
+        reading.meshes.front().smooth = true;
     }
 
     static std::string names(const char* keyword, const std::set<std::string>& names) {
-        constexpr std::size_t most = 8;
-        std::string text;
-        std::size_t listed = 0;
-        for (const std::string& name : names) {
-            if (listed == most) {
-                return text + " and " + std::to_string(names.size() - most) + " more";
-            }
-            text += (listed++ == 0 ? std::string(keyword) + " " : ", ") + quote_word(name);
-        }
-        return text;
+        return names.empty() ? "" : std::string(keyword) + " " + quoted_names(names);
     }
 
     LineStream& lines_;

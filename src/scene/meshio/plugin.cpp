@@ -28,6 +28,19 @@ std::string quote_word(std::string_view text) {
     return "\"" + printable(text, 40) + "\"";
 }
 
+std::string quoted_names(const std::set<std::string>& names) {
+    constexpr std::size_t most = 8;
+    std::string text;
+    std::size_t listed = 0;
+    for (const std::string& name : names) {
+        if (listed == most) {
+            return text + " and " + std::to_string(names.size() - most) + " more";
+        }
+        text += (listed++ == 0 ? "" : ", ") + quote_word(name);
+    }
+    return text;
+}
+
 MappedFile::MappedFile(const std::filesystem::path& file) {
     const int descriptor = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
     struct stat status {};
@@ -72,7 +85,11 @@ MeshReading read_by_extension(const std::filesystem::path& file, std::size_t max
     if (extension == ".stl") {
         return read_stl(file, max_triangles);
     }
-    refuse_at("", "unknown mesh file extension " + quote_word(extension) + ": twinray reads .obj, .ply and .stl");
+    if (extension == ".gltf" || extension == ".glb") {
+        return read_gltf(file, max_triangles);
+    }
+    refuse_at("", "unknown mesh file extension " + quote_word(extension) +
+                      ": twinray reads .obj, .ply, .stl, .gltf and .glb");
 }
 
 MeshReading refused(Refusal refusal) {

@@ -445,9 +445,9 @@ template <typename Body>
 MeshReading read_body(Body& body, const Header& header, const Layout& layout, std::size_t max_triangles,
                       MeshReading reading) {
     const std::uint64_t vertex_count = header.elements[layout.vertex_element].count;
-    std::vector<Vec3>& vertices = reading.mesh.vertices;
+    std::vector<Vec3>& vertices = reading.meshes.front().vertices;
     std::vector<Vec3> normals;
-    std::vector<std::array<std::uint32_t, 3>>& triangles = reading.mesh.triangles;
+    std::vector<std::array<std::uint32_t, 3>>& triangles = reading.meshes.front().triangles;
     vertices.reserve(vertex_count);
     triangles.reserve(header.elements[*layout.face_element].count);
     std::optional<std::string> unusable_normal;
@@ -531,8 +531,8 @@ MeshReading read_body(Body& body, const Header& header, const Layout& layout, st
         reading.warnings.push_back("normals (nx, ny, nz) are not used: the one of " + *unusable_normal +
                                    " has no direction");
     } else if (layout.normal) {
-        reading.mesh.normals = std::move(normals);
-        reading.mesh.smooth = true;
+        reading.meshes.front().normals = std::move(normals);
+        reading.meshes.front().smooth = true;
     }
     return reading;
 }
@@ -541,7 +541,7 @@ MeshReading read_body(Body& body, const Header& header, const Layout& layout, st
 
 MeshReading read_ply(const std::filesystem::path& file, std::size_t max_triangles) {
     const MappedFile mapped(file);
-    MeshReading reading;
+    MeshReading reading = one_mesh_reading();
     const Header header = read_header(mapped.bytes(), reading.warnings);
     const Layout layout = layout_of(header, max_triangles, reading.warnings);
     const std::string_view body = mapped.bytes().substr(header.body_offset);

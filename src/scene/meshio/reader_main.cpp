@@ -1,5 +1,5 @@
-// twinray_mesh_reader FILE MAX_TRIANGLES: reads one mesh file through the mesh library module and sends the
-// mesh, or why it was refused, on its standard output (scene/mesh_wire.h). twinray runs it for each mesh file
+// twinray_mesh_reader FILE MAX_TRIANGLES: reads one mesh file through the mesh library module and sends its
+// meshes and nodes, or why it was refused, on its standard output (scene/mesh_wire.h). twinray runs it for each mesh file
 // (scene/mesh_file.h), so that whatever the libraries do on a file — crash, abort, hang — happens here.
 #include "io/shared_module.h"
 #include "scene/mesh_wire.h"
@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
         message.kind = twinray::scene::wire::Kind::refusal;
         message.texts = {reading.refusal->location, reading.refusal->problem};
     } else {
-        message.mesh = std::move(reading.mesh);
+        message.meshes = std::move(reading.meshes);
+        message.nodes = std::move(reading.nodes);
         message.texts = std::move(reading.warnings);
     }
     return twinray::scene::wire::send(STDOUT_FILENO, message) ? 0 : 1;

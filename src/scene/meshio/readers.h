@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <string_view>
 
@@ -14,6 +15,15 @@ namespace twinray::scene::meshio {
 MeshReading read_obj(const std::filesystem::path& file, std::size_t max_triangles);
 MeshReading read_ply(const std::filesystem::path& file, std::size_t max_triangles);
 MeshReading read_stl(const std::filesystem::path& file, std::size_t max_triangles);
+MeshReading read_gltf(const std::filesystem::path& file, std::size_t max_triangles);
+
+// OBJ, PLY and STL have no nodes: a reading of their one mesh (to fill), placed once as it stands.
+inline MeshReading one_mesh_reading() {
+    MeshReading reading;
+    reading.meshes.emplace_back();
+    reading.nodes.emplace_back();
+    return reading;
+}
 
 // Vertices a file may hold: enough for every triangle of the limit to have three of its own.
 constexpr std::size_t max_vertices_for(std::size_t max_triangles) {
@@ -41,6 +51,8 @@ constexpr std::size_t max_vertices_for(std::size_t max_triangles) {
 // since the file's bytes are not to be trusted with a terminal. `quoted` puts a word from the file in quotes.
 std::string printable(std::string_view text, std::size_t longest = 300);
 std::string quote_word(std::string_view text);
+// Names from the file, each quoted, comma-separated, the first eight of them and how many more.
+std::string quoted_names(const std::set<std::string>& names);
 
 // A file mapped read-only for the reader's lifetime (the OBJ and PLY readers parse it in place).
 class MappedFile {

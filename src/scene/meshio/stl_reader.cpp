@@ -128,12 +128,12 @@ MeshReading read_stl(const std::filesystem::path& file, std::size_t max_triangle
     if (triangle_count > max_triangles) {
         refuse_too_many_triangles("", "it has " + std::to_string(triangle_count) + " triangles", max_triangles);
     }
-    MeshReading reading;
+    MeshReading reading = one_mesh_reading();
     if (colours) {
         reading.warnings.push_back("facet colours are not used");
     }
     Welder welder(3 * triangle_count);
-    std::vector<std::array<std::uint32_t, 3>>& triangles = reading.mesh.triangles;
+    std::vector<std::array<std::uint32_t, 3>>& triangles = reading.meshes.front().triangles;
     triangles.reserve(triangle_count);
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
         const aiMesh& mesh = *scene->mMeshes[m];
@@ -156,7 +156,7 @@ MeshReading read_stl(const std::filesystem::path& file, std::size_t max_triangle
         }
     }
     importer.FreeScene();
-    reading.mesh.vertices = welder.vertices();
+    reading.meshes.front().vertices = welder.vertices();
     return reading;
 }
 
