@@ -4,6 +4,7 @@
 #include "scene/mesh_file.h"
 #include "scene/loader.h"
 #include "scene/mesh_wire.h"
+#include "tests/gltf_files.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -75,6 +76,14 @@ std::optional<SceneError> refusal_of(const fs::path& file, std::size_t max_trian
     return std::nullopt;
 }
 
+// An OBJ, PLY or STL file's one mesh, checked to be placed once as it stands.
+const MeshData& only_mesh(const MeshFileResult& result) {
+    EXPECT_EQ(result.meshes.size(), 1U);
+    EXPECT_EQ(result.nodes.size(), 1U);
+    EXPECT_TRUE(!result.nodes.empty() && result.nodes[0].mesh == 0 && result.nodes[0].is_identity());
+    return result.meshes.at(0);
+}
+
 // The unit cube of tests/data/meshes/make_meshes.py, scaled, and its quads' fans.
 std::vector<Vec3> cube_vertices(double side) {
     std::vector<Vec3> vertices;
@@ -93,20 +102,20 @@ const std::vector<Triangle> cube_triangles = {{0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {
 
 TEST(MeshFile, ObjCubeOfQuadsInTwoGroupsIsOneMeshOfFans) {
     const MeshFileResult result = read_mesh_file(meshes_dir / "cube.obj", limit);
-    EXPECT_EQ(result.mesh.vertices, cube_vertices(1));
-    EXPECT_EQ(result.mesh.triangles, cube_triangles);
-    EXPECT_TRUE(result.mesh.normals.empty());
-    EXPECT_FALSE(result.mesh.smooth);
-    EXPECT_TRUE(result.mesh.degenerate.empty());
+    EXPECT_EQ(only_mesh(result).vertices, cube_vertices(1));
+    EXPECT_EQ(only_mesh(result).triangles, cube_triangles);
+    EXPECT_TRUE(only_mesh(result).normals.empty());
+    EXPECT_FALSE(only_mesh(result).smooth);
+    EXPECT_TRUE(only_mesh(result).degenerate.empty());
     EXPECT_TRUE(result.warnings.empty());
-    EXPECT_EQ(result.mesh.file, (meshes_dir / "cube.obj").string());
-    EXPECT_TRUE(topology_of(result.mesh).closed());
+    EXPECT_EQ(only_mesh(result).file, (meshes_dir / "cube.obj").string());
+    EXPECT_TRUE(topology_of(only_mesh(result)).closed());
 }
 
 TEST(MeshFile, ConcavePolygonIsCutAlongADiagonalInsideIt) {
     // The dart (0,0) (2,1) (4,0) (2,3): the fan from its first corner would give (0,1,2), outside it.
     const MeshFileResult result = read_mesh_file(meshes_dir / "concave.obj", limit);
-    EXPECT_EQ(result.mesh.triangles, (std::vector<Triangle>{{1, 2, 3}, {0, 1, 3}}));
+    EXPECT_EQ(only_mesh(result).triangles, (std::vector<Triangle>{{1, 2, 3}, {0, 1, 3}}));
 }
 
 TEST(MeshFile, ObjNormalsSplitEachVertexTheFacesGiveSeveral) {
@@ -114,7 +123,7 @@ TEST(MeshFile, ObjNormalsSplitEachVertexTheFacesGiveSeveral) {
     // first normal and sixteen copies take the others. Relative indices, a normal of length 2, passed on as the
     // file writes it (the loader makes every mesh's normals unit length, inline or from a file, one way).
     const MeshFileResult result = read_mesh_file(meshes_dir / "cube_normals.obj", limit);
-    const MeshData& mesh = result.mesh;
+    const MeshData& mesh = only_mesh(result);
     ASSERT_EQ(mesh.vertices.size(), 24U);
     ASSERT_EQ(mesh.triangles.size(), 12U);
     EXPECT_TRUE(mesh.smooth);
@@ -140,11 +149,11 @@ TEST(MeshFile, PlyAsciiAndBinaryReadTheSameDoubles) {
     for (const char* name : {"cube_ascii.ply", "cube_binary.ply", "cube_binary_big_endian.ply"}) {
         SCOPED_TRACE(name);
         const MeshFileResult result = read_mesh_file(meshes_dir / name, limit);
-        EXPECT_EQ(result.mesh.vertices, cube_vertices(0.1));
-        EXPECT_EQ(result.mesh.triangles, cube_triangles);
-        EXPECT_FALSE(result.mesh.smooth);
+        EXPECT_EQ(only_mesh(result).vertices, cube_vertices(0.1));
+        EXPECT_EQ(only_mesh(result).triangles, cube_triangles);
+        EXPECT_FALSE(only_mesh(result).smooth);
         EXPECT_TRUE(result.warnings.empty());
-        EXPECT_TRUE(topology_of(result.mesh).closed());
+        EXPECT_TRUE(topology_of(only_mesh(result)).closed());
     }
 }
 
@@ -158,25 +167,25 @@ TEST(MeshFile, StlAsciiAndBinaryAreWeldedToTheCubesEightFloatVertices) {
     for (const char* name : {"cube_ascii.stl", "cube_binary.stl"}) {
         SCOPED_TRACE(name);
         const MeshFileResult result = read_mesh_file(meshes_dir / name, limit);
-        EXPECT_EQ(result.mesh.vertices, expected_vertices);
-        EXPECT_EQ(result.mesh.triangles, expected_triangles);
-        EXPECT_TRUE(result.mesh.normals.empty());
+        EXPECT_EQ(only_mesh(result).vertices, expected_vertices);
+        EXPECT_EQ(only_mesh(result).triangles, expected_triangles);
+        EXPECT_TRUE(only_mesh(result).normals.empty());
         EXPECT_TRUE(result.warnings.empty());
-        EXPECT_TRUE(topology_of(result.mesh).closed());
+        EXPECT_TRUE(topology_of(only_mesh(result)).closed());
     }
 }
 
 TEST(MeshFile, DegenerateTrianglesAreKeptAndListed) {
     const fs::path file = write_file("degenerate.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 1 2\nf 2 3 3\n");
     const MeshFileResult result = read_mesh_file(file, limit);
-    EXPECT_EQ(result.mesh.triangles, (std::vector<Triangle>{{0, 1, 2}, {0, 0, 1}, {1, 2, 2}}));
-    EXPECT_EQ(result.mesh.degenerate, (std::vector<std::uint32_t>{1, 2}));
+    EXPECT_EQ(only_mesh(result).triangles, (std::vector<Triangle>{{0, 1, 2}, {0, 0, 1}, {1, 2, 2}}));
+    EXPECT_EQ(only_mesh(result).degenerate, (std::vector<std::uint32_t>{1, 2}));
 }
 
 TEST(MeshFile, ExtensionIsReadInAnyCase) {
     const fs::path file = output_dir() / "CUBE.OBJ";
     fs::copy_file(meshes_dir / "cube.obj", file, fs::copy_options::overwrite_existing);
-    EXPECT_EQ(read_mesh_file(file, limit).mesh.triangles.size(), 12U);
+    EXPECT_EQ(only_mesh(read_mesh_file(file, limit)).triangles.size(), 12U);
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -211,7 +220,8 @@ INSTANTIATE_TEST_SUITE_P(
     Files, MeshFileRefusal,
     testing::Values(
         Refused{"no_such_file.obj", limit, "", "cannot open file: No such file or directory"},
-        Refused{"cube.gltf", limit, "", "unknown mesh file extension \".gltf\": twinray reads .obj, .ply and .stl"},
+        Refused{"cube.fbx", limit, "",
+                "unknown mesh file extension \".fbx\": twinray reads .obj, .ply, .stl, .gltf and .glb"},
         Refused{"bad_number.obj", limit, "line 3", "\"1x\" is not a number"},
         Refused{"truncated_binary.ply", limit, "face[11]", "the file ends inside this face of 12: truncated"},
         Refused{"points_only.ply", limit, "", "no triangles: the file has 3 vertices and no faces"},
@@ -358,27 +368,61 @@ std::string as_reader_output(const wire::Message& message) {
 
 TEST(MeshFileReader, ReceivingEndRefusesAZeroNormalThatTheLoaderWouldTurnIntoNaN) {
     wire::Message message;
-    message.mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-    message.mesh.triangles = {{0, 1, 2}};
-    message.mesh.normals = {{0, 0, 2}, {0, 0, 0}, {0, 0, 1}};
-    message.mesh.smooth = true;
+    MeshData& mesh = message.meshes.emplace_back();
+    message.nodes.emplace_back();
+    mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.triangles = {{0, 1, 2}};
+    mesh.normals = {{0, 0, 2}, {0, 0, 0}, {0, 0, 1}};
+    mesh.smooth = true;
     try {
         mesh_from_reader_output("model.obj", as_reader_output(message), limit);
         ADD_FAILURE() << "a zero normal from the reader was accepted";
     } catch (const SceneError& error) {
         EXPECT_EQ(error.problem(), "the mesh reader sent a malformed result: a normal of zero length");
     }
-    message.mesh.normals[1] = {0, 0, 1e-300};
+    mesh.normals[1] = {0, 0, 1e-300};
     const MeshFileResult received = mesh_from_reader_output("model.obj", as_reader_output(message), limit);
-    EXPECT_EQ(received.mesh.normals[1].z, 1e-300);
-    EXPECT_EQ(received.mesh.file, "model.obj");
+    EXPECT_EQ(only_mesh(received).normals[1].z, 1e-300);
+    EXPECT_EQ(only_mesh(received).file, "model.obj");
+}
+
+// A reader's meshes and nodes, one of which `spoil` breaks: each refused as a malformed result saying what is wrong.
+std::string malformed_problem(void (*spoil)(wire::Message&)) {
+    wire::Message message;
+    for (int m = 0; m < 2; ++m) {
+        MeshData& mesh = message.meshes.emplace_back();
+        mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+        mesh.triangles = {{0, 1, 2}};
+        message.nodes.emplace_back().mesh = static_cast<std::uint32_t>(m);
+    }
+    spoil(message);
+    try {
+        mesh_from_reader_output("model.gltf", as_reader_output(message), limit);
+    } catch (const SceneError& error) {
+        return error.problem();
+    }
+    return "accepted";
+}
+
+TEST(MeshFileReader, ReceivingEndRefusesNodesThatPlaceNoMeshSentOrAreNotFinite) {
+    EXPECT_EQ(malformed_problem([](wire::Message& message) { message.nodes[1].mesh = 2; }),
+              "the mesh reader sent a malformed result: a node places mesh 2 of 2");
+    EXPECT_EQ(malformed_problem([](wire::Message& message) { message.nodes.pop_back(); }),
+              "the mesh reader sent a malformed result: a mesh that no node places");
+    EXPECT_EQ(malformed_problem([](wire::Message& message) { message.nodes[0].linear.row[2].y = NAN; }),
+              "the mesh reader sent a malformed result: a node's matrix is not finite");
+    EXPECT_EQ(malformed_problem([](wire::Message& message) { message.nodes.clear(); }),
+              "the mesh reader sent a malformed result: 2 meshes of 2 triangles and 6 vertices, placed by 0 nodes");
+    EXPECT_EQ(malformed_problem([](wire::Message& message) { message.meshes[1].triangles[0][2] = 3; }),
+              "the mesh reader sent a malformed result: mesh 1 triangle 0 has an index out of range");
+    EXPECT_EQ(malformed_problem([](wire::Message&) {}), "accepted");
 }
 
 // ---------------------------------------------------------------------------------------------------
 // Topology.
 
 TEST(MeshTopology, SingleQuadIsOpenWithFourBoundaryEdges) {
-    const MeshTopology topology = topology_of(read_mesh_file(meshes_dir / "quad.obj", limit).mesh);
+    const MeshTopology topology = topology_of(only_mesh(read_mesh_file(meshes_dir / "quad.obj", limit)));
     EXPECT_EQ(topology.boundary_edges, 4U);
     EXPECT_EQ(topology.non_manifold_edges, 0U);
     EXPECT_EQ(topology.inconsistently_wound_edges, 0U);
@@ -448,13 +492,13 @@ TEST_P(AssimpTestModel, IsReadWithItsCountsAndTopology) {
     }
     const RealFile& real = GetParam();
     const MeshFileResult result = read_mesh_file(testmodels_dir / real.file, limit);
-    EXPECT_EQ(result.mesh.vertices.size(), real.vertices);
-    EXPECT_EQ(result.mesh.triangles.size(), real.triangles);
-    EXPECT_EQ(result.mesh.smooth, real.smooth);
-    const MeshTopology topology = topology_of(result.mesh);
+    EXPECT_EQ(only_mesh(result).vertices.size(), real.vertices);
+    EXPECT_EQ(only_mesh(result).triangles.size(), real.triangles);
+    EXPECT_EQ(only_mesh(result).smooth, real.smooth);
+    const MeshTopology topology = topology_of(only_mesh(result));
     EXPECT_EQ((std::array{topology.boundary_edges, topology.non_manifold_edges, topology.inconsistently_wound_edges}),
               real.edges);
-    EXPECT_EQ(result.mesh.degenerate.size(), real.degenerate);
+    EXPECT_EQ(only_mesh(result).degenerate.size(), real.degenerate);
     if (real.warning.empty()) {
         EXPECT_TRUE(result.warnings.empty()) << result.warnings[0];
     } else {
@@ -518,13 +562,220 @@ TEST(AssimpTestModels, ConcavePolygonsAreCoveredWithoutOverlap) {
     }
     // Two concave 32-gons (LightWave's test): every triangle faces the way its polygon does, so none overlaps
     // another or leaves the polygon (the fan from the first corner would fold triangles over).
-    const MeshData mesh = read_mesh_file(testmodels_dir / "OBJ/concave_polygon.obj", limit).mesh;
+    const MeshData mesh = only_mesh(read_mesh_file(testmodels_dir / "OBJ/concave_polygon.obj", limit));
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const auto& [a, b, c] = mesh.triangles[t];
         const Vec3 normal = cross(mesh.vertices[b] - mesh.vertices[a], mesh.vertices[c] - mesh.vertices[a]);
         EXPECT_GT(dot(normal, mesh.normals[a]), 0) << "triangle " << t << " is folded over";
     }
 }
+
+// ---------------------------------------------------------------------------------------------------
+// glTF: a file written here, then assimp-testmodels' own.
+
+TEST(GltfFile, AMeshThreeNodesPlaceIsSentOnceWithEachNodesWorldTransform) {
+    const fs::path file = write_file("three_gems.gltf", test::octahedron_gltf(test::three_gems_nodes, "[0]"));
+    const MeshFileResult result = read_mesh_file(file, limit);
+    ASSERT_EQ(result.meshes.size(), 1U);
+    const MeshData& gem = result.meshes[0];
+    ASSERT_EQ(gem.vertices.size(), 6U);
+    EXPECT_EQ(gem.vertices[0], (Vec3{0.5, 0, 0}));
+    EXPECT_EQ(gem.vertices[5], (Vec3{0, 0, -0.5}));
+    EXPECT_EQ(gem.triangles,
+              (std::vector<Triangle>{
+                  {0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}));
+    EXPECT_FALSE(gem.smooth);
+    EXPECT_TRUE(result.warnings.empty()) << result.warnings[0];
+    ASSERT_EQ(result.nodes.size(), 3U);
+    const auto rows = [](const MeshNode& node) {
+        return std::array{node.linear.row[0], node.linear.row[1], node.linear.row[2]};
+    };
+    EXPECT_EQ(result.nodes[0].name, "Left");
+    EXPECT_EQ(rows(result.nodes[0]), (std::array<Vec3, 3>{{{0.5, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5}}}));
+    EXPECT_EQ(result.nodes[0].translation, (Vec3{-0.75, 0.625, -0.25}));
+    EXPECT_EQ(result.nodes[1].name, "Big");
+    EXPECT_EQ(rows(result.nodes[1]), (std::array<Vec3, 3>{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}));
+    EXPECT_EQ(result.nodes[1].translation, (Vec3{0.5, 0.75, -1}));
+    EXPECT_EQ(result.nodes[2].name, "Turned");
+    EXPECT_EQ(rows(result.nodes[2]), (std::array<Vec3, 3>{{{0, 0, 0.5}, {0, 0.5, 0}, {-0.5, 0, 0}}}));
+    EXPECT_EQ(result.nodes[2].translation, (Vec3{0, 0.125, 0.5}));
+    for (const MeshNode& node : result.nodes) {
+        EXPECT_EQ(node.mesh, 0U);
+    }
+}
+
+TEST(GltfFile, TrianglesOrNodesPastTheLimitAreRefusedBeforeTheyAreSent) {
+    // The octahedron's 8 triangles placed by ten nodes: a limit of 7 refuses the triangles, one of 9 the tenth node
+    // (each node will be a primitive of the scene at least).
+    std::string nodes = R"([{"name": "Row", "children": [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]})";
+    for (int k = 1; k <= 10; ++k) {
+        nodes += R"(, {"name": "Gem )" + std::to_string(k) + R"(", "mesh": 0, "translation": [)" + std::to_string(k) +
+                 ", 0, 0]}";
+    }
+    const fs::path file = write_file("ten_gems.gltf", test::octahedron_gltf(nodes + "]", "[0]"));
+    std::optional<SceneError> error = refusal_of(file, 7);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->location(), "mesh \"gem\"");
+    EXPECT_EQ(error->problem(),
+              "it brings the triangles to 8: more than the limit of 7 primitives (about 210 bytes of memory each when "
+              "rendered; no scene may hold more than 4194304)");
+    error = refusal_of(file, 9);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->location(), "node \"Gem 10\"");
+    EXPECT_EQ(error->problem(),
+              "its nodes that carry meshes number more than 9: more than the limit of 9 primitives (about 210 bytes "
+              "of memory each when rendered; no scene may hold more than 4194304)");
+    EXPECT_EQ(read_mesh_file(file, 10).nodes.size(), 10U);
+}
+
+TEST(GltfFile, ANodeMatrixThatIsNotAffineIsRefusedNamingTheNode) {
+    const fs::path file = write_file(
+        "projective.gltf",
+        test::octahedron_gltf(
+            R"([{"name": "Lens", "mesh": 0, "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0.5, 0, 0, 0, 1]}])", "[0]"));
+    const std::optional<SceneError> error = refusal_of(file);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->location(), "node \"Lens\"");
+    EXPECT_EQ(error->problem(), "its matrix is not affine: its last row is 0 0 0.5 1, not 0 0 0 1");
+}
+
+struct RealGltf {
+    std::string file;  // under /usr/share/assimp/models/glTF2
+    std::size_t meshes;
+    std::size_t triangles;
+    std::size_t nodes;
+    bool smooth;
+    std::vector<std::string> warnings;  // the beginning of each
+};
+
+void PrintTo(const RealGltf& real, std::ostream* out) {
+    *out << real.file;
+}
+
+class AssimpGltfModel : public testing::TestWithParam<RealGltf> {};
+
+TEST_P(AssimpGltfModel, GivesItsMeshesOnceAndANodeForEachPlacement) {
+    if (!fs::is_directory(testmodels_dir)) {
+        GTEST_SKIP() << "Debian's assimp-testmodels is not installed (" << testmodels_dir << "); ci/setup installs it";
+    }
+    const RealGltf& real = GetParam();
+    const MeshFileResult result = read_mesh_file(testmodels_dir / "glTF2" / real.file, limit);
+    std::size_t triangles = 0;
+    for (const MeshData& mesh : result.meshes) {
+        triangles += mesh.triangles.size();
+        EXPECT_EQ(mesh.smooth, real.smooth);
+    }
+    EXPECT_EQ(result.meshes.size(), real.meshes);
+    EXPECT_EQ(triangles, real.triangles);
+    EXPECT_EQ(result.nodes.size(), real.nodes);
+    ASSERT_EQ(result.warnings.size(), real.warnings.size());
+    for (std::size_t w = 0; w < real.warnings.size(); ++w) {
+        EXPECT_TRUE(result.warnings[w].starts_with(real.warnings[w])) << result.warnings[w];
+    }
+}
+
+// The engine: 29 meshes, 20 of them placed more than once (a bolt by 20 nodes), 67 nodes in all.
+INSTANTIATE_TEST_SUITE_P(
+    Files, AssimpGltfModel,
+    testing::Values(RealGltf{"2CylinderEngine-glTF-Binary/2CylinderEngine.glb",
+                             29,
+                             75730,
+                             67,
+                             true,
+                             {"materials (and their textures) are not used: \"Material_16\"",
+                              "1 cameras are not used"}},
+                    RealGltf{"BoxTextured-glTF/BoxTextured.gltf",
+                             1,
+                             12,
+                             1,
+                             true,
+                             {"materials (and their textures) are not used: \"Texture\"",
+                              "texture coordinates are not used: mesh \"Mesh\""}},
+                    RealGltf{"BoxBadNormals-glTF-Binary/BoxBadNormals.glb",
+                             1,
+                             12,
+                             1,
+                             false,
+                             {"normals of mesh \"Mesh\" are not used: vertex 0's has no direction",
+                              "materials (and their textures) are not used: \"Red\""}},
+                    RealGltf{"simple_skin/simple_skin.gltf",
+                             1,
+                             8,
+                             1,
+                             false,
+                             {"skins are not used (the meshes are drawn as the nodes place them): mesh",
+                              "1 animations are not used"}},
+                    RealGltf{"glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf",
+                             1,
+                             12,
+                             1,
+                             true,
+                             {"materials (and their textures) are not used: \"Material\"",
+                              "morph targets are not used: mesh \"Cube\"", "1 animations are not used"}}),
+    [](const testing::TestParamInfo<RealGltf>& real) { return test_name(real.param.file); });
+
+TEST(AssimpGltfModels, ABoxTurnedByItsNodeGivesTheTurnExactlyAndReadsAsGlbAndInAnyCase) {
+    if (!fs::is_directory(testmodels_dir)) {
+        GTEST_SKIP() << "Debian's assimp-testmodels is not installed (" << testmodels_dir << "); ci/setup installs it";
+    }
+    const fs::path file = output_dir() / "BOX.GLB";
+    fs::copy_file(testmodels_dir / "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb", file,
+                  fs::copy_options::overwrite_existing);
+    const MeshFileResult result = read_mesh_file(file, limit);
+    ASSERT_EQ(result.nodes.size(), 1U);
+    // The file's node matrix turns -90° about x.
+    const MeshNode& node = result.nodes[0];
+    EXPECT_EQ(node.linear.row[0], (Vec3{1, 0, 0}));
+    EXPECT_EQ(node.linear.row[1], (Vec3{0, 0, 1}));
+    EXPECT_EQ(node.linear.row[2], (Vec3{0, -1, 0}));
+    EXPECT_EQ(node.translation, (Vec3{0, 0, 0}));
+    ASSERT_EQ(result.meshes.size(), 1U);
+    EXPECT_EQ(result.meshes[0].vertices.size(), 24U);
+    EXPECT_TRUE(std::any_of(result.warnings.begin(), result.warnings.end(),
+                            [](const std::string& warning) { return warning == "1 embedded textures are not used"; }));
+}
+
+struct RefusedGltf {
+    std::string file;  // under /usr/share/assimp/models/glTF2
+    std::string location;
+    std::string problem;
+};
+
+void PrintTo(const RefusedGltf& refused, std::ostream* out) {
+    *out << refused.file;
+}
+
+class AssimpGltfRefusal : public testing::TestWithParam<RefusedGltf> {};
+
+TEST_P(AssimpGltfRefusal, NamesTheFileWhereAndWhat) {
+    if (!fs::is_directory(testmodels_dir)) {
+        GTEST_SKIP() << "Debian's assimp-testmodels is not installed (" << testmodels_dir << "); ci/setup installs it";
+    }
+    const RefusedGltf& refused = GetParam();
+    const std::optional<SceneError> error = refusal_of(testmodels_dir / "glTF2" / refused.file);
+    ASSERT_TRUE(error) << "read, not refused";
+    EXPECT_EQ(error->location(), refused.location);
+    EXPECT_EQ(error->problem(), refused.problem);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Files, AssimpGltfRefusal,
+    testing::Values(RefusedGltf{"RecursiveNodes/RecursiveNodes.gltf", "",
+                                "assimp: GLTF: Object at index 0 in array \"nodes\" has recursive reference to itself"},
+                    RefusedGltf{
+                        "IndexOutOfRange/IndexOutOfRange.gltf", "",
+                        "a triangle's vertex index is out of range (assimp dropped the triangles that have one)"},
+                    RefusedGltf{"IndexOutOfRange/AllIndicesOutOfRange.gltf", "", "assimp: Mesh \"Mesh\" has no faces"},
+                    RefusedGltf{"MissingBin/BoxTextured.gltf", "",
+                                "assimp: GLTF: could not open referenced file \"BoxTextured0.bin\""},
+                    RefusedGltf{"BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", "mesh \"Mesh\"",
+                                "vertex 0 is not finite (-inf -0.5 0.5)"},
+                    RefusedGltf{"TestNoRootNode/SceneWithoutNodes.gltf", "",
+                                "no triangles: the file's 0 mesh primitives hold none"},
+                    RefusedGltf{"TestNoRootNode/NoScene.gltf", "", "assimp: GLTF: No scene"},
+                    RefusedGltf{"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_00.gltf", "",
+                                "no triangles: the file's 1 mesh primitives hold none"}),
+    [](const testing::TestParamInfo<RefusedGltf>& refused) { return test_name(refused.param.file); });
 
 // ---------------------------------------------------------------------------------------------------
 // The measurement of docs/performance.md ("Mesh files: the library"), run by ci/measure-mesh-files on each of
@@ -542,10 +793,11 @@ TEST(MeshFileMeasurement, DISABLED_MeasureOneFile) {
     rusage reader_side{};
     getrusage(RUSAGE_SELF, &twinray_side);
     getrusage(RUSAGE_CHILDREN, &reader_side);
-    const auto triangles = static_cast<double>(result.mesh.triangles.size());
-    std::cout << file << ": " << result.mesh.triangles.size() << " triangles, " << result.mesh.vertices.size()
-              << " vertices in " << seconds << " s; peak RSS " << twinray_side.ru_maxrss / 1024 << " MiB here + "
-              << reader_side.ru_maxrss / 1024 << " MiB in the reader = "
+    const auto triangles = static_cast<double>(only_mesh(result).triangles.size());
+    std::cout << file << ": " << only_mesh(result).triangles.size() << " triangles, "
+              << only_mesh(result).vertices.size() << " vertices in " << seconds << " s; peak RSS "
+              << twinray_side.ru_maxrss / 1024 << " MiB here + " << reader_side.ru_maxrss / 1024
+              << " MiB in the reader = "
               << 1024.0 * static_cast<double>(twinray_side.ru_maxrss + reader_side.ru_maxrss) / triangles
               << " bytes per triangle\n";
 }
