@@ -6,14 +6,18 @@
 #include "scene/loader.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
+#include "tests/gltf_files.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace twinray {
 namespace {
@@ -258,6 +262,179 @@ TEST_F(ExactInstances, TheSseTracerGivenUpTheGeometryRendersTheSameImage) {
         EXPECT_EQ(differing_pixels(sse::render(instanced_, options).image, sse::render(giving_up, given, options).image,
                                    accel == Accel::bvh ? "sse, bvh" : "sse, brute force"),
                   0);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// A glTF file's nodes (tests/gltf_files.h: one octahedron placed by three nodes under a parent that halves and lifts
+// them): instances of one mesh shape at the top level, one mesh placed by them in `shapes`.
+
+// `scene_text` written beside three_gems.gltf and loaded from there, at most `max_primitives`.
+scene::Scene load_beside_gltf(const std::string& name, const std::string& scene_text,
+                              std::size_t max_primitives = scene::max_scene_primitives) {
+    const std::filesystem::path dir = std::filesystem::path(TWINRAY_TEST_OUTPUT_DIR) / "instance_gltf";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "three_gems.gltf") << test::octahedron_gltf(test::three_gems_nodes, "[0]");
+    return scene::parse_scene(scene_text, (dir / name).string(), max_primitives);
+}
+
+const std::string gltf_gems = header + R"(
+  "objects": [
+    { "type": "plane", "normal": [0, 1, 0], "offset": -1, "material": "blue" },
+    { "type": "mesh", "file": "three_gems.gltf", "smooth": true, "material": "red" }
+  ]
+})";
+
+// The same, written by hand: the node's TRS, then its parent's.
+const std::string hand_gems = header + R"(
+  "shapes": { "gem": )" + octahedron +
+                              R"(} },
+  "objects": [
+    { "type": "plane", "normal": [0, 1, 0], "offset": -1, "material": "blue" },
+    { "type": "instance", "shape": "gem", "material": "red",
+      "transform": [{"translate": [-1.5, 0.25, -0.5]}, {"scale": 0.5}, {"translate": [0, 0.5, 0]}] },
+    { "type": "instance", "shape": "gem", "material": "red",
+      "transform": [{"scale": 2}, {"translate": [1, 0.5, -2]}, {"scale": 0.5}, {"translate": [0, 0.5, 0]}] },
+    { "type": "instance", "shape": "gem", "material": "red",
+      "transform": [{"rotate": [0, 90, 0]}, {"translate": [0, -0.75, 1]}, {"scale": 0.5}, {"translate": [0, 0.5, 0]}] }
+  ]
+})";
+
+TEST(GltfInstances, AMeshThreeNodesPlaceIsOneShapeAndThreeInstancesAtTheNodesWorldTransforms) {
+    const scene::Scene scene = load_beside_gltf("gems.json", gltf_gems);
+    ASSERT_EQ(scene.mesh_shapes.size(), 1u);
+    EXPECT_EQ(scene.mesh_shapes[0].name, "three_gems.gltf mesh 0");
+    EXPECT_EQ(scene.mesh_shapes[0].data->triangles.size(), 8u);
+    ASSERT_EQ(scene.meshes.size(), 3u);
+    for (const scene::Mesh& mesh : scene.meshes) {
+        EXPECT_EQ(mesh.data, scene.mesh_shapes[0].data) << "each instance shares the one shape";
+        ASSERT_TRUE(mesh.placement);
+        EXPECT_EQ(mesh.placement->shape, 0);
+    }
+    EXPECT_EQ(scene.leaf_name(1), "objects[1] node \"Left\" (three_gems.gltf mesh 0)");
+    EXPECT_EQ(scene.leaf_name(2), "objects[1] node \"Big\" (three_gems.gltf mesh 0)");
+    EXPECT_EQ(scene.leaf_name(3), "objects[1] node \"Turned\" (three_gems.gltf mesh 0)");
+    const auto expect_placed = [&](int instance, std::array<scene::Vec3, 3> rows, scene::Vec3 translation) {
+        const scene::Placement& placed = *scene.meshes[static_cast<std::size_t>(instance)].placement;
+        for (int r = 0; r < 3; ++r) {
+            EXPECT_EQ(placed.linear.row[r], rows[static_cast<std::size_t>(r)]) << "instance " << instance;
+        }
+        EXPECT_EQ(placed.translation, translation) << "instance " << instance;
+    };
+    expect_placed(0, {{{0.5, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5}}}, {-0.75, 0.625, -0.25});
+    expect_placed(1, {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}, {0.5, 0.75, -1});
+    expect_placed(2, {{{0, 0, 0.5}, {0, 0.5, 0}, {-0.5, 0, 0}}}, {0, 0.125, 0.5});
+    // The floor, the shape's eight triangles once and each instance one.
+    EXPECT_EQ(scene.primitive_count(), 1u + 8u + 3u);
+}
+
+TEST(GltfInstances, BothTracersRenderTheFileAsTheSameInstancesWrittenByHandBitForBit) {
+    const scene::Scene from_file = load_beside_gltf("gems.json", gltf_gems);
+    const scene::Scene by_hand = scene::parse_scene(hand_gems, "<hand>");
+    RenderOptions options;
+    options.threads = 1;
+    EXPECT_EQ(differing_pixels(reference::render<double>(from_file, options).image,
+                               reference::render<double>(by_hand, options).image, "reference"),
+              0);
+    if (sse::cpu_supports_sse41()) {
+        EXPECT_EQ(differing_pixels(sse::render(from_file, options).image, sse::render(by_hand, options).image, "sse"),
+                  0);
+    }
+}
+
+TEST(GltfInstances, InShapesTheNodesMeshesArePlacedIntoOneMeshExactly) {
+    const scene::Scene scene = load_beside_gltf("gem_shape.json", header + R"(
+      "shapes": { "gems": { "type": "mesh", "file": "three_gems.gltf" } },
+      "objects": [ { "type": "instance", "shape": "gems" }, { "type": "instance", "shape": "gems" } ]
+    })");
+    ASSERT_EQ(scene.mesh_shapes.size(), 1u);
+    const scene::MeshData& mesh = *scene.mesh_shapes[0].data;
+    // Each node's copy of the octahedron, in the nodes' order, by the world transforms worked out by hand.
+    const auto left = [](scene::Vec3 p) { return scene::Vec3{0.5 * p.x - 0.75, 0.5 * p.y + 0.625, 0.5 * p.z - 0.25}; };
+    const auto big = [](scene::Vec3 p) { return scene::Vec3{p.x + 0.5, p.y + 0.75, p.z - 1}; };
+    const auto turned = [](scene::Vec3 p) { return scene::Vec3{0.5 * p.z, 0.5 * p.y + 0.125, -0.5 * p.x + 0.5}; };
+    std::vector<scene::Vec3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    for (scene::Vec3 (*place)(scene::Vec3) : {+left, +big, +turned}) {
+        const auto first = static_cast<std::uint32_t>(vertices.size());
+        for (const auto& [x, y, z] : test::octahedron_vertices) {
+            vertices.push_back(place({x, y, z}));
+        }
+        for (const auto& [a, b, c] : test::octahedron_triangles) {
+            triangles.push_back({first + a, first + b, first + c});
+        }
+    }
+    EXPECT_EQ(mesh.vertices, vertices);
+    EXPECT_EQ(mesh.triangles, triangles);
+    EXPECT_EQ(mesh.file, "three_gems.gltf");
+    // The shape's 24 triangles once and two instances.
+    EXPECT_EQ(scene.primitive_count(), 24u + 2u);
+}
+
+// The refusal of `scene_text` beside three_gems.gltf, at most `max_primitives`.
+scene::SceneError refusal_beside_gltf(const std::string& scene_text, std::size_t max_primitives) {
+    try {
+        load_beside_gltf("refused.json", scene_text, max_primitives);
+    } catch (const scene::SceneError& error) {
+        return error;
+    }
+    ADD_FAILURE() << "loaded, not refused";
+    return scene::SceneError("", "", "");
+}
+
+TEST(GltfInstances, WhatTheNodesPlacePastThePrimitiveLimitIsRefusedNamingTheFile) {
+    const std::string over =
+        ": more than the limit of 10 primitives (about 210 bytes of memory each when rendered; no "
+        "scene may hold more than 4194304)";
+    // Instanced: the floor, then 8 triangles and 3 instances, one more than 11 allows.
+    scene::SceneError error = refusal_beside_gltf(gltf_gems, 11);
+    EXPECT_EQ(error.location(), "objects[1].file");
+    EXPECT_EQ(error.problem(), "three_gems.gltf: its 1 meshes of 8 triangles and the 3 nodes that place them" + over);
+    // Placed into one mesh: 24 triangles.
+    error = refusal_beside_gltf(header + R"(
+      "shapes": { "gems": { "type": "mesh", "file": "three_gems.gltf" } },
+      "objects": [ { "type": "plane", "normal": [0, 1, 0], "offset": -1 } ] })",
+                                11);
+    EXPECT_EQ(error.location(), "shapes.gems.file");
+    EXPECT_EQ(error.problem(), "three_gems.gltf: its nodes place 3 meshes of 24 triangles and 18 vertices in all" +
+                                   std::string(": more than the limit of 11 primitives (about 210 bytes of memory each "
+                                               "when rendered; no scene may hold more than 4194304)"));
+    EXPECT_EQ(load_beside_gltf("fits.json", gltf_gems, 12).primitive_count(), 12u);
+}
+
+TEST(GltfInstances, ANodeTransformPastTheConditionLimitIsRefusedNamingTheFileAndNode) {
+    const std::filesystem::path dir = std::filesystem::path(TWINRAY_TEST_OUTPUT_DIR) / "instance_gltf";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "flat.gltf") << test::octahedron_gltf(
+        R"([{"name": "Flat", "mesh": 0, "scale": [1, 1e-6, 1]}, {"name": "Fine", "mesh": 0}])", "[0, 1]");
+    const std::string conditioned = "the transform is too badly conditioned: its condition number";
+    for (const char* where : {"objects", "shapes"}) {
+        SCOPED_TRACE(where);
+        const std::string scene_text =
+            std::string(where) == "objects"
+                ? header + R"("objects": [ { "type": "mesh", "file": "flat.gltf" } ] })"
+                : header + R"("shapes": { "flat": { "type": "mesh", "file": "flat.gltf" } }, "objects": [] })";
+        try {
+            scene::parse_scene(scene_text, (dir / "flat.json").string());
+            ADD_FAILURE() << "loaded, not refused";
+        } catch (const scene::SceneError& error) {
+            EXPECT_EQ(error.location(), std::string(where) == "objects" ? "objects[0].file" : "shapes.flat.file");
+            EXPECT_TRUE(error.problem().starts_with("flat.gltf: node \"Flat\": " + conditioned)) << error.problem();
+        }
+    }
+    // Under an object's own transform the composed one is judged: a thousandth of z twice (each alone passes).
+    std::ofstream(dir / "thin.gltf") << test::octahedron_gltf(
+        R"([{"name": "Thin", "mesh": 0, "scale": [1, 1, 0.001]}, {"name": "Fine", "mesh": 0}])", "[0, 1]");
+    try {
+        scene::parse_scene(header + R"("objects": [ { "type": "mesh", "file": "thin.gltf",
+                                                      "transform": [{"scale": [1, 1, 0.001]}] } ] })",
+                           (dir / "thinner.json").string());
+        ADD_FAILURE() << "loaded, not refused";
+    } catch (const scene::SceneError& error) {
+        EXPECT_EQ(error.location(), "objects[0].file");
+        EXPECT_TRUE(
+            error.problem().starts_with("thin.gltf: node \"Thin\", followed by the object's transform: " + conditioned))
+            << error.problem();
     }
 }
 

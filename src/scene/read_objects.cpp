@@ -417,12 +417,12 @@ private:
     }
 
     // A file's node transform; refused, at the mesh object's `file`, where it may not place anything.
-    static Transform node_transform(const Node& node, const MeshFileResult& contents, const MeshNode& file_node,
+    static Transform node_transform(const Node& node, const std::string& file, const MeshNode& file_node,
                                     const std::optional<Transform>& own) {
         const Transform of_node = affine(file_node.linear, file_node.translation);
         const Transform to_world = own ? math::composed(*own, of_node) : of_node;
         if (const std::optional<std::string> problem = why_unusable(to_world)) {
-            refuse(at(node, "file").path(), contents.meshes.front().file + ": node " + in_quotes(file_node.name) +
+            refuse(at(node, "file").path(), file + ": node " + in_quotes(file_node.name) +
                                                 (own ? ", followed by the object's transform: " : ": ") + *problem);
         }
         return to_world;
@@ -441,7 +441,7 @@ private:
             vertices += contents.meshes[file_node.mesh].vertices.size();
         }
         const std::size_t triangles_allowed = max_primitives_ - primitives_;
-        const std::string& file = contents.meshes.front().file;
+        const std::string file = contents.meshes.front().file;
         if (triangles > triangles_allowed || vertices > 3 * triangles_allowed) {
             refuse(at(node, "file").path(),
                    file + ": " +
@@ -464,7 +464,7 @@ private:
         merged.triangles.reserve(triangles);
         for (const MeshNode& file_node : contents.nodes) {
             MeshData placed = contents.meshes[file_node.mesh];
-            place(placed, node_transform(node, contents, file_node, std::nullopt));
+            place(placed, node_transform(node, file, file_node, std::nullopt));
             const auto first = static_cast<std::uint32_t>(merged.vertices.size());
             merged.vertices.insert(merged.vertices.end(), placed.vertices.begin(), placed.vertices.end());
             for (const std::array<std::uint32_t, 3>& triangle : placed.triangles) {
@@ -518,8 +518,7 @@ private:
         primitives_ += triangles;
         for (const MeshNode& file_node : contents.nodes) {
             add_instance(node.path() + " node " + in_quotes(file_node.name), material,
-                         node_transform(node, contents, file_node, own),
-                         first_shape + static_cast<int>(file_node.mesh));
+                         node_transform(node, file, file_node, own), first_shape + static_cast<int>(file_node.mesh));
         }
     }
 
