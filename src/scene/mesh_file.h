@@ -33,23 +33,23 @@ struct MeshReader {
     static std::filesystem::path default_program();
 };
 
-// The file's format by its extension (.obj, .ply, .stl, .gltf, .glb, any case). glTF: each mesh a node of the
-// file's scene carries is one mesh (its triangle primitives merged, in its own space, in assimp's float), shared by
-// every node that carries it, and each such node places it by its world transform (its matrix and its ancestors',
-// assimp's floats composed from the root in double); points, lines and what is not geometry are warned of.
-// OBJ, PLY, STL: all of a file's groups, objects and solids make one mesh: polygons triangulated by ear clipping (meshio/polygon.h: a convex polygon gives the fan from its
-// first corner), triangles in file order, degenerate ones kept and listed (those with a repeated index; three
-// collinear vertices are left to the caller). Vertices: OBJ's and PLY's as the file numbers them, STL's welded
-// by bit-identical coordinates. Normals, when the file gives every vertex one (OBJ's vn on every face corner,
-// PLY's nx ny nz): as the file writes them, each non-zero and finite (the loader makes them unit length, as it
-// does inline normals), one per vertex (an OBJ vertex given with several normals is split, the copies
-// appended), and `smooth` set; STL's facet normals are not read. Throws SceneError (file, location such as
-// "line 12", "face[3]" or `mesh "Wheel"`, problem) for an unreadable file, an unknown extension, a malformed or
-// truncated file, no triangles, no node carrying a mesh, a coordinate or node matrix that is not finite, an index
-// out of range, more than `max_triangles` triangles in its meshes or nodes carrying them (at most
-// max_scene_primitives: larger is not honoured; PLY and binary STL are refused from their header, before anything
-// is read) or more than three vertices per triangle of that limit, and when the reader crashes, fails or runs out
-// of time. What the scene holds of them (instances, or the nodes' meshes placed into one) the loader counts again.
+// The file's format by its extension (.obj, .ply, .stl, .gltf, .glb, any case). glTF: each mesh a node of the file's
+// scene carries is one mesh (its triangle primitives merged, in its own space, in assimp's float), shared by every node
+// that carries it, and each such node places it by its world transform (its matrix and its ancestors', assimp's floats
+// composed from the root in double); points, lines and what is not geometry are warned of.
+// OBJ, PLY, STL: all of a file's groups, objects and solids make one mesh: polygons triangulated by ear clipping
+// (meshio/polygon.h: a convex polygon gives the fan from its first corner), triangles in file order, degenerate ones
+// kept and listed (those with a repeated index; three collinear vertices are left to the caller). Vertices: OBJ's and
+// PLY's as the file numbers them, STL's welded by bit-identical coordinates. Normals, when the file gives every vertex
+// one (OBJ's vn on every face corner, PLY's nx ny nz, glTF's NORMAL): as the file writes them, each non-zero and finite
+// (the loader makes them unit length, as it does inline normals), one per vertex (an OBJ vertex given with several
+// normals is split, the copies appended), and `smooth` set; STL's facet normals are not read. Throws SceneError (file,
+// location such as "line 12", "face[3]" or `mesh "Wheel"`, problem) for an unreadable file, an unknown extension, a
+// malformed or truncated file, no triangles, no node carrying a mesh, a coordinate or node matrix that is not finite,
+// an index out of range, more than `max_triangles` triangles in its meshes or nodes carrying them (at most
+// max_scene_primitives: larger is not honoured; PLY and binary STL are refused from their header, before anything is
+// read) or more than three vertices per triangle of that limit, and when the reader crashes, fails or runs out of time.
+// What the scene holds of them (instances, or the nodes' meshes placed into one) the loader counts again.
 MeshFileResult read_mesh_file(const std::filesystem::path& file, std::size_t max_triangles);
 MeshFileResult read_mesh_file(const std::filesystem::path& file, std::size_t max_triangles, const MeshReader& reader);
 

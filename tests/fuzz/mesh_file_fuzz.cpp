@@ -1,12 +1,13 @@
-// libFuzzer target for mesh files: arbitrary bytes, saved as an OBJ, PLY or STL file, through the mesh library
+// libFuzzer target for mesh files: arbitrary bytes, saved as an OBJ, PLY, STL or glTF file, through the mesh library
 // module's readers (scene/meshio/library.h: our PLY reader, tinyobjloader, assimp), here in this process, where
 // a render runs them in twinray_mesh_reader; then twinray's receiving end (mesh_from_reader_output, which checks
 // what the reader process sends) on the reading as sent, and on the bytes themselves as a reader gone wrong.
 //
 // What it holds them to, beyond what ASan and UBSan catch: a reader refuses only with a refusal that says what
-// is wrong; an accepted mesh has a triangle, no more triangles than the limit nor vertices than three per
-// triangle of it, every index in range, finite vertices, one finite non-zero normal per vertex or none; the
-// receiving end gives back exactly the mesh sent, and refuses other bytes only with a SceneError. A broken
+// is wrong; an accepted reading has meshes and nodes, every mesh a triangle and a node placing it, no more
+// triangles (in all its meshes) nor nodes than the limit nor vertices than three per triangle of it, every index in
+// range, finite vertices and node matrices, one finite non-zero normal per vertex or none; the receiving end gives
+// back exactly the meshes and nodes sent, and refuses other bytes only with a SceneError. A broken
 // promise aborts and libFuzzer keeps the input.
 // tinyobjloader is compiled here, so coverage sees it; assimp is Debian's uninstrumented build, seen by ASan only
 // through the calls it intercepts (docs/reliability.md). Built only with -DTWINRAY_FUZZ=ON (preset `fuzz`).
@@ -19,6 +20,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -27,11 +29,13 @@
 #include <fstream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace {
 
 namespace fs = std::filesystem;
 using twinray::scene::MeshData;
+using twinray::scene::MeshNode;
 using twinray::scene::Vec3;
 
 // Small, so that inputs reach the refusals past the limit, which the seeds' counts are near.
@@ -42,10 +46,17 @@ void expect(bool holds, const char* what) {
 }
 
 // The format by the bytes, so that the seeds are real files as they are: "ply" begins a PLY, "solid" an ASCII
-// STL, and a binary STL is 84 bytes and 50 per triangle its header declares; anything else is read as OBJ.
+// STL, "glTF" a binary glTF and "{" a glTF, and a binary STL is 84 bytes and 50 per triangle its header declares;
+// anything else is read as OBJ.
 const char* extension_for(std::string_view bytes) {
     if (bytes.starts_with("ply")) {
         return ".ply";
+    }
+    if (bytes.starts_with("glTF")) {
+        return ".glb";
+    }
+    if (bytes.starts_with("{")) {
+        return ".gltf";
     }
     if (bytes.starts_with("solid")) {
         return ".stl";
@@ -66,8 +77,6 @@ bool finite(const Vec3& v) {
 
 void check_accepted(const MeshData& mesh) {
     expect(!mesh.triangles.empty(), "an accepted mesh has a triangle");
-    expect(mesh.triangles.size() <= fuzz_triangle_limit, "an accepted mesh is within the triangle limit");
-    expect(mesh.vertices.size() <= 3 * fuzz_triangle_limit, "an accepted mesh has at most three vertices a triangle");
     for (const Vec3& vertex : mesh.vertices) {
         expect(finite(vertex), "vertices are finite");
     }
@@ -81,6 +90,29 @@ void check_accepted(const MeshData& mesh) {
     for (const Vec3& normal : mesh.normals) {
         expect(finite(normal) && (normal.x != 0 || normal.y != 0 || normal.z != 0), "normals are finite, non-zero");
     }
+}
+
+void check_accepted(const std::vector<MeshData>& meshes, const std::vector<MeshNode>& nodes) {
+    expect(!meshes.empty() && !nodes.empty(), "an accepted reading has meshes and nodes");
+    std::size_t triangles = 0;
+    std::size_t vertices = 0;
+    for (const MeshData& mesh : meshes) {
+        check_accepted(mesh);
+        triangles += mesh.triangles.size();
+        vertices += mesh.vertices.size();
+    }
+    expect(triangles <= fuzz_triangle_limit, "an accepted reading's meshes are within the triangle limit");
+    expect(vertices <= 3 * fuzz_triangle_limit, "an accepted reading has at most three vertices a triangle");
+    expect(nodes.size() <= fuzz_triangle_limit, "an accepted reading's nodes are within the limit");
+    std::vector<bool> placed(meshes.size(), false);
+    for (const MeshNode& node : nodes) {
+        expect(node.mesh < meshes.size(), "a node places a mesh sent");
+        expect(finite(node.translation) && finite(node.linear.row[0]) && finite(node.linear.row[1]) &&
+                   finite(node.linear.row[2]),
+               "node matrices are finite");
+        placed[node.mesh] = true;
+    }
+    expect(std::find(placed.begin(), placed.end(), false) == placed.end(), "every mesh is placed by a node");
 }
 
 bool same_vectors(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
@@ -101,14 +133,28 @@ std::string as_sent(const twinray::scene::wire::Message& message) {
 
 void check_received_as_sent(const twinray::scene::meshio::MeshReading& reading) {
     twinray::scene::wire::Message message;
-    message.mesh = reading.mesh;
+    message.meshes = reading.meshes;
+    message.nodes = reading.nodes;
     message.texts = reading.warnings;
     const twinray::scene::MeshFileResult received =
         twinray::scene::mesh_from_reader_output("fuzz.mesh", as_sent(message), fuzz_triangle_limit);
-    expect(same_vectors(received.mesh.vertices, reading.mesh.vertices) &&
-               same_vectors(received.mesh.normals, reading.mesh.normals) &&
-               received.mesh.triangles == reading.mesh.triangles && received.mesh.smooth == reading.mesh.smooth,
-           "the receiving end gives back the mesh sent");
+    expect(received.meshes.size() == reading.meshes.size(), "the receiving end gives back every mesh sent");
+    for (std::size_t m = 0; m < received.meshes.size(); ++m) {
+        const MeshData& got = received.meshes[m];
+        const MeshData& sent = reading.meshes[m];
+        expect(same_vectors(got.vertices, sent.vertices) && same_vectors(got.normals, sent.normals) &&
+                   got.triangles == sent.triangles && got.smooth == sent.smooth,
+               "the receiving end gives back the meshes sent");
+    }
+    expect(received.nodes.size() == reading.nodes.size(), "the receiving end gives back every node sent");
+    for (std::size_t n = 0; n < received.nodes.size(); ++n) {
+        const MeshNode& got = received.nodes[n];
+        const MeshNode& sent = reading.nodes[n];
+        expect(got.mesh == sent.mesh && std::memcmp(&got.linear, &sent.linear, sizeof got.linear) == 0 &&
+                   std::memcmp(&got.translation, &sent.translation, sizeof got.translation) == 0 &&
+                   got.name == sent.name,
+               "the receiving end gives back the nodes sent");
+    }
     expect(received.warnings == reading.warnings, "the receiving end gives back the warnings sent");
 }
 
@@ -117,9 +163,11 @@ void check_bytes_as_output(std::string_view bytes) {
     try {
         const twinray::scene::MeshFileResult received =
             twinray::scene::mesh_from_reader_output("fuzz.mesh", std::string(bytes), fuzz_triangle_limit);
-        check_accepted(received.mesh);
-        for (const std::uint32_t triangle : received.mesh.degenerate) {
-            expect(triangle < received.mesh.triangles.size(), "degenerate triangles are in range");
+        check_accepted(received.meshes, received.nodes);
+        for (const MeshData& mesh : received.meshes) {
+            for (const std::uint32_t triangle : mesh.degenerate) {
+                expect(triangle < mesh.triangles.size(), "degenerate triangles are in range");
+            }
         }
     } catch (const twinray::scene::SceneError& error) {
         expect(std::strlen(error.what()) > 0, "a refused output says why");
@@ -143,7 +191,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (reading.refusal) {
         expect(!reading.refusal->problem.empty(), "a refusal says what is wrong");
     } else {
-        check_accepted(reading.mesh);
+        check_accepted(reading.meshes, reading.nodes);
         check_received_as_sent(reading);
     }
     check_bytes_as_output(bytes);

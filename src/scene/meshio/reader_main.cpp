@@ -1,6 +1,6 @@
 // twinray_mesh_reader FILE MAX_TRIANGLES: reads one mesh file through the mesh library module and sends its
-// meshes and nodes, or why it was refused, on its standard output (scene/mesh_wire.h). twinray runs it for each mesh file
-// (scene/mesh_file.h), so that whatever the libraries do on a file — crash, abort, hang — happens here.
+// meshes and nodes, or why it was refused, on its standard output (scene/mesh_wire.h). twinray runs it for each
+// mesh file (scene/mesh_file.h), so that whatever the libraries do on a file — crash, abort, hang — happens here.
 #include "io/shared_module.h"
 #include "scene/mesh_wire.h"
 #include "scene/meshio/library.h"

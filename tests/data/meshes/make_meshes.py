@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
 """Writes the mesh files of tests/mesh_file_test.cpp (run from anywhere; the files are committed)."""
+import base64
 import os
 import struct
 
@@ -61,3 +62,27 @@ write("cube_binary.stl", b"cube written by make_meshes.py".ljust(80, b" ") + str
 write("cube_ascii.stl", "solid cube\n" + "".join(
     "facet normal 0 0 0\n outer loop\n" + "".join("  vertex %r %r %r\n" % v for v in t) + " endloop\nendfacet\n"
     for t in stl_triangles) + "endsolid cube\n")
+
+# glTF: the unit cube (0-based indices) placed by two nodes under a parent that turns them, as .gltf with its buffer a
+# data URI and as .glb (a seed of the mesh file fuzzer, which reads each format by its first bytes).
+gltf_buffer = b"".join(struct.pack("<3f", *v) for v in cube_vertices) + b"".join(
+    struct.pack("<3H", a - 1, b - 1, c - 1) for a, b, c in cube_triangles)
+
+
+def gltf_json(uri):
+    buffer = '{"byteLength": %d%s}' % (len(gltf_buffer), ', "uri": "%s"' % uri if uri else "")
+    return ('{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": ['
+            '{"name": "Pair", "rotation": [0, 0.7071068, 0, 0.7071068], "children": [1, 2]}, '
+            '{"name": "Near", "mesh": 0}, {"name": "Far", "mesh": 0, "translation": [2, 0, 0]}], '
+            '"meshes": [{"name": "cube", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}], '
+            '"buffers": [' + buffer + '], "bufferViews": [{"buffer": 0, "byteLength": 96}, '
+            '{"buffer": 0, "byteOffset": 96, "byteLength": 72}], "accessors": ['
+            '{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]}, '
+            '{"bufferView": 1, "componentType": 5123, "count": 36, "type": "SCALAR"}]}')
+
+
+write("cube_nodes.gltf", gltf_json("data:application/octet-stream;base64," + base64.b64encode(gltf_buffer).decode()))
+glb_json = gltf_json(None).encode().ljust((len(gltf_json(None)) + 3) // 4 * 4, b" ")
+write("cube_nodes.glb", b"glTF" + struct.pack("<II", 2, 12 + 8 + len(glb_json) + 8 + len(gltf_buffer))
+      + struct.pack("<I", len(glb_json)) + b"JSON" + glb_json
+      + struct.pack("<I", len(gltf_buffer)) + b"BIN\0" + gltf_buffer)
