@@ -12,6 +12,7 @@
 #include "reference/tracer.h"
 #include "scene/depth_control.h"
 #include "scene/loader.h"
+#include "tests/gltf_files.h"
 #include "tests/run_twinray.h"
 #include "tests/scene_files.h"
 
@@ -425,6 +426,55 @@ TEST(PovExporter, NegatesZAndSwapsTheBoxCornersItsOrderChanges) {
     EXPECT_TRUE(contains(pov, "sphere {\n  <1, 2, -3>, 0.5")) << pov;
     EXPECT_TRUE(contains(pov, "plane {\n  <0, 0, -1>, 2")) << pov;
     EXPECT_TRUE(contains(pov, "location <0, 1, -5>")) << pov;
+}
+
+// A glTF file's nodes (tests/gltf_files.h: one octahedron placed by three nodes under a parent) are exported as one
+// declared mesh2 and an object of it per node under the node's matrix, and POV-Ray renders them as the reference does.
+TEST(PovExporter, AGltfFilesMeshIsDeclaredOnceAndEachNodePlacesItAsTheReferenceRendersIt) {
+    std::optional<fs::path> povray = find_povray();
+    ASSERT_TRUE(povray.has_value()) << "povray is not on PATH: install the Debian package `povray` (ci/setup)";
+    const fs::path folder = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "pov" / "gltf";
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    std::ofstream(folder / "three_gems.gltf") << twinray::test::octahedron_gltf(twinray::test::three_gems_nodes, "[0]");
+    const twinray::scene::Scene scene = twinray::scene::parse_scene(R"({
+      "image": { "width": 80, "height": 60 },
+      "camera": { "eye": [0.3, 1.5, 2.5], "look_at": [0, 0.4, -0.5] },
+      "materials": { "red": { "color": [0.9, 0.2, 0.1], "diffuse": 0.7, "phong": 0.4 } },
+      "lights": [ { "position": [-3, 6, 4] } ],
+      "objects": [ { "type": "plane", "normal": [0, 1, 0], "offset": -0.5 },
+                   { "type": "mesh", "file": "three_gems.gltf", "material": "red" } ] })",
+                                                                    (folder / "gems.json").string());
+    const std::string pov_text = twinray::pov::export_pov(scene, scene.width, scene.height);
+    const auto count = [&pov_text](const std::string& part) {
+        std::size_t found = 0;
+        for (std::size_t at = pov_text.find(part); at != std::string::npos; at = pov_text.find(part, at + 1)) {
+            ++found;
+        }
+        return found;
+    };
+    EXPECT_EQ(count("#declare twinray_shape_"), 1u);
+    EXPECT_EQ(count("  twinray_shape_0\n"), 3u);
+    EXPECT_EQ(count("// objects[1] node \"Turned\" (three_gems.gltf mesh 0)"), 1u);
+    std::optional<Image> pov = render_with_povray(*povray, folder, "pov", pov_text, scene.width, scene.height);
+    ASSERT_TRUE(pov.has_value());
+    twinray::RenderOptions options;
+    options.threads = 1;
+    const Image reference = twinray::compare::quantized_8bit(twinray::reference::render<double>(scene, options).image);
+    int within_2 = 0;
+    int red = 0;  // pixels of the gems, so that the comparison is about them
+    for (int y = 0; y < scene.height; ++y) {
+        for (int x = 0; x < scene.width; ++x) {
+            const std::array<int, 3> a = levels_of(pov->at(x, y));
+            const std::array<int, 3> b = levels_of(reference.at(x, y));
+            within_2 += std::abs(a[0] - b[0]) <= 2 && std::abs(a[1] - b[1]) <= 2 && std::abs(a[2] - b[2]) <= 2;
+            red += b[0] > 2 * b[2] + 10;
+        }
+    }
+    std::printf("[ measured ] glTF gems: %d of %d pixels within 2/255 of the reference, %d of the gems\n", within_2,
+                scene.width * scene.height, red);
+    EXPECT_GT(red, scene.width * scene.height / 20);
+    EXPECT_GE(within_2, scene.width * scene.height - scene.width * scene.height / 1000);
 }
 
 TEST(PovExporter, CameraHasExplicitRightUpSkyAndHorizontalAngle) {
