@@ -628,6 +628,21 @@ TEST(GltfFile, TrianglesOrNodesPastTheLimitAreRefusedBeforeTheyAreSent) {
     EXPECT_EQ(read_mesh_file(file, 10).nodes.size(), 10U);
 }
 
+TEST(GltfFile, AWorldTransformThatOverflowsIsRefusedNamingTheNode) {
+    // Each node scales by 1e38, a float's range: nine of them pass a double's.
+    std::string nodes = "[";
+    for (int k = 0; k < 9; ++k) {
+        nodes += (k == 0 ? "" : ", ") + std::string(R"({"name": "Level )") + std::to_string(k) +
+                 R"(", "scale": [1e38, 1e38, 1e38], )" +
+                 (k == 8 ? std::string(R"("mesh": 0})") : R"("children": [)" + std::to_string(k + 1) + "]}");
+    }
+    const fs::path file = write_file("deep.gltf", test::octahedron_gltf(nodes + "]", "[0]"));
+    const std::optional<SceneError> error = refusal_of(file);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->location(), "node \"Level 8\"");
+    EXPECT_EQ(error->problem(), "its world transform (its matrix after its ancestors') overflows: not all finite");
+}
+
 TEST(GltfFile, ANodeMatrixThatIsNotAffineIsRefusedNamingTheNode) {
     const fs::path file = write_file(
         "projective.gltf",

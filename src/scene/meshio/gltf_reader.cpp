@@ -56,6 +56,10 @@ MeshNode local_transform(const aiNode& node) {
     return local;
 }
 
+bool is_finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
 // `inner` placed by `outer`: p ↦ L_o·(L_i·p + t_i) + t_o, in double.
 MeshNode composed(const MeshNode& outer, const MeshNode& inner) {
     MeshNode out;
@@ -115,7 +119,14 @@ public:
             place_meshes_of(*node, to_world);
             for (unsigned c = node->mNumChildren; c-- > 0;) {
                 const aiNode& child = *node->mChildren[c];
-                pending.emplace_back(&child, composed(to_world, local_transform(child)));
+                MeshNode child_to_world = composed(to_world, local_transform(child));
+                if (!is_finite(child_to_world.translation) || !is_finite(child_to_world.linear.row[0]) ||
+                    !is_finite(child_to_world.linear.row[1]) || !is_finite(child_to_world.linear.row[2])) {
+                    refuse_at(node_location(child),
+                              "its world transform (its matrix after its ancestors') overflows: "
+                              "not all finite");
+                }
+                pending.emplace_back(&child, std::move(child_to_world));
             }
         }
         if (reading_.nodes.empty()) {
