@@ -654,6 +654,47 @@ TEST(GltfFile, ANodeMatrixThatIsNotAffineIsRefusedNamingTheNode) {
     EXPECT_EQ(error->problem(), "its matrix is not affine: its last row is 0 0 0.5 1, not 0 0 0 1");
 }
 
+// The octahedron's .gltf as a .glb: its JSON chunk (padded with spaces to four bytes, as the format asks) without
+// the buffer's data URI, and the buffer as its BIN chunk.
+std::string glb_of(std::string json) {
+    const std::size_t uri = json.find(R"(, "uri": ")");
+    json.erase(uri, json.find('"', uri + 10) + 1 - uri);
+    json.append((4 - json.size() % 4) % 4, ' ');
+    std::string buffer(reinterpret_cast<const char*>(test::octahedron_vertices.data()),
+                       sizeof test::octahedron_vertices);
+    buffer.append(reinterpret_cast<const char*>(test::octahedron_triangles.data()), sizeof test::octahedron_triangles);
+    const auto word = [](std::uint32_t value) { return std::string(reinterpret_cast<const char*>(&value), 4); };
+    return "glTF" + word(2) + word(static_cast<std::uint32_t>(28 + json.size() + buffer.size())) +
+           word(static_cast<std::uint32_t>(json.size())) + "JSON" + json +
+           word(static_cast<std::uint32_t>(buffer.size())) + std::string("BIN\0", 4) + buffer;
+}
+
+// assimp reads a file as if an extension it lacks were absent: a required one that may change the meshes is refused
+// (Draco's accessors have no data of their own), in a .gltf and in a .glb's JSON chunk; one on materials is not.
+TEST(GltfFile, ARequiredExtensionThatMayChangeTheMeshesIsRefusedAndOneOnMaterialsIsNot) {
+    const std::string gltf = test::octahedron_gltf(R"([{"name": "Gem", "mesh": 0}])", "[0]");
+    const auto requiring = [&gltf](const std::string& extension) {
+        return R"({"extensionsRequired": [")" + extension + R"("], "extensionsUsed": [")" + extension + R"("],)" +
+               gltf.substr(1);
+    };
+    for (const auto& [name, text] :
+         {std::pair<std::string, std::string>{"meshopt.gltf", requiring("EXT_meshopt_compression")},
+          {"meshopt.glb", glb_of(requiring("EXT_meshopt_compression"))}}) {
+        const std::optional<SceneError> error = refusal_of(write_file(name, text));
+        ASSERT_TRUE(error) << name << " read, not refused";
+        EXPECT_EQ(error->problem(),
+                  "it requires the extension \"EXT_meshopt_compression\", which assimp 5.2 does not "
+                  "read (it would read the meshes as if it were absent); required extensions "
+                  "allowed: KHR_materials_*, KHR_texture_*, KHR_lights_punctual")
+            << name;
+    }
+    for (const auto& [name, text] :
+         {std::pair<std::string, std::string>{"unlit.gltf", requiring("KHR_materials_unlit")},
+          {"unlit.glb", glb_of(requiring("KHR_materials_unlit"))}}) {
+        EXPECT_EQ(only_mesh(read_mesh_file(write_file(name, text), limit)).triangles.size(), 8u) << name;
+    }
+}
+
 struct RealGltf {
     std::string file;  // under /usr/share/assimp/models/glTF2
     std::size_t meshes;
@@ -789,7 +830,11 @@ INSTANTIATE_TEST_SUITE_P(
                                 "no triangles: the file's 0 mesh primitives hold none"},
                     RefusedGltf{"TestNoRootNode/NoScene.gltf", "", "assimp: GLTF: No scene"},
                     RefusedGltf{"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_00.gltf", "",
-                                "no triangles: the file's 1 mesh primitives hold none"}),
+                                "no triangles: the file's 1 mesh primitives hold none"},
+                    RefusedGltf{"draco/2CylinderEngine.gltf", "",
+                                "it requires the extension \"KHR_draco_mesh_compression\", which assimp 5.2 does not "
+                                "read (it would read the meshes as if it were absent); required extensions allowed: "
+                                "KHR_materials_*, KHR_texture_*, KHR_lights_punctual"}),
     [](const testing::TestParamInfo<RefusedGltf>& refused) { return test_name(refused.param.file); });
 
 // ---------------------------------------------------------------------------------------------------

@@ -4,7 +4,9 @@
 // giving the same list share it. Points and lines are not drawn. assimp holds coordinates and each node's matrix
 // in float (its TRS composed in float too); the matrices are composed down the hierarchy here in double.
 // assimp drops a triangle whose index is out of range with no more than a line in its log: the log is read, and
-// such a file refused.
+// such a file refused. It reads a file that requires an extension it lacks (Draco-compressed meshes: their accessors
+// then have no data, which glTF reads as zeros) as if the extension were not there: a file requiring an extension
+// that may change its geometry is refused.
 #include "scene/meshio/readers.h"
 
 #include <assimp/material.h>
@@ -12,9 +14,14 @@
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <string_view>
 #include <utility>
@@ -72,6 +79,50 @@ MeshNode composed(const MeshNode& outer, const MeshNode& inner) {
     }
     out.translation = outer.linear * inner.translation + outer.translation;
     return out;
+}
+
+// The file's JSON: a .gltf's whole text, a .glb's first chunk; empty where the file has no such chunk.
+std::string json_text_of(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    char header[20] = {};
+    in.read(header, sizeof header);
+    if (in.gcount() >= 4 && std::memcmp(header, "glTF", 4) != 0) {
+        in.clear();
+        in.seekg(0);
+        return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    }
+    // 12 bytes: magic, version, length; then the first chunk's length and type.
+    std::uint32_t length = 0;
+    if (in.gcount() < static_cast<std::streamsize>(sizeof header) || std::memcmp(header + 16, "JSON", 4) != 0) {
+        return {};
+    }
+    std::memcpy(&length, header + 12, sizeof length);
+    std::string text(length, '\0');
+    in.read(text.data(), length);
+    text.resize(static_cast<std::size_t>(in.gcount()));
+    return text;
+}
+
+// Extensions a file may require and still be drawn as written: they change materials, textures or lights, which
+// are not used.
+bool leaves_geometry_alone(std::string_view extension) {
+    return extension.starts_with("KHR_materials_") || extension.starts_with("KHR_texture_") ||
+           extension == "KHR_lights_punctual";
+}
+
+void refuse_required_extensions(const std::filesystem::path& file) {
+    const nlohmann::json json = nlohmann::json::parse(json_text_of(file), nullptr, false);
+    const auto required = json.is_object() ? json.find("extensionsRequired") : json.end();
+    if (!json.is_object() || required == json.end() || !required->is_array()) {
+        return;
+    }
+    for (const nlohmann::json& extension : *required) {
+        if (extension.is_string() && !leaves_geometry_alone(extension.get<std::string>())) {
+            refuse_at("", "it requires the extension " + quote_word(extension.get<std::string>()) +
+                              ", which assimp 5.2 does not read (it would read the meshes as if it were absent); "
+                              "required extensions allowed: KHR_materials_*, KHR_texture_*, KHR_lights_punctual");
+        }
+    }
 }
 
 // assimp's warnings and errors while the importer runs (its logger is the process's: this reader's alone).
@@ -316,6 +367,7 @@ private:
 }  // namespace
 
 MeshReading read_gltf(const std::filesystem::path& file, std::size_t max_triangles) {
+    refuse_required_extensions(file);
     const AssimpLog log;
     Assimp::Importer importer;
     // No post-processing: the primitives as the file has them (assimp makes strips and fans triangles itself).
