@@ -384,7 +384,7 @@ scene::SceneError refusal_beside_gltf(const std::string& scene_text, std::size_t
 
 TEST(GltfInstances, WhatTheNodesPlacePastThePrimitiveLimitIsRefusedNamingTheFile) {
     const std::string over =
-        ": more than the limit of 10 primitives (about 210 bytes of memory each when rendered; no "
+        ": more than the limit of 10 primitives (about 165 bytes of memory each when rendered; no "
         "scene may hold more than 4194304)";
     // Instanced: the floor, then 8 triangles and 3 instances, one more than 11 allows.
     scene::SceneError error = refusal_beside_gltf(gltf_gems, 11);
@@ -397,7 +397,7 @@ TEST(GltfInstances, WhatTheNodesPlacePastThePrimitiveLimitIsRefusedNamingTheFile
                                 11);
     EXPECT_EQ(error.location(), "shapes.gems.file");
     EXPECT_EQ(error.problem(), "three_gems.gltf: its nodes place 3 meshes of 24 triangles and 18 vertices in all" +
-                                   std::string(": more than the limit of 11 primitives (about 210 bytes of memory each "
+                                   std::string(": more than the limit of 11 primitives (about 165 bytes of memory each "
                                                "when rendered; no scene may hold more than 4194304)"));
     EXPECT_EQ(load_beside_gltf("fits.json", gltf_gems, 12).primitive_count(), 12u);
 }

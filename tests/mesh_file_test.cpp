@@ -617,13 +617,13 @@ TEST(GltfFile, TrianglesOrNodesPastTheLimitAreRefusedBeforeTheyAreSent) {
     ASSERT_TRUE(error);
     EXPECT_EQ(error->location(), "mesh \"gem\"");
     EXPECT_EQ(error->problem(),
-              "it brings the triangles to 8: more than the limit of 7 primitives (about 210 bytes of memory each when "
+              "it brings the triangles to 8: more than the limit of 7 primitives (about 165 bytes of memory each when "
               "rendered; no scene may hold more than 4194304)");
     error = refusal_of(file, 9);
     ASSERT_TRUE(error);
     EXPECT_EQ(error->location(), "node \"Gem 10\"");
     EXPECT_EQ(error->problem(),
-              "its nodes that carry meshes number more than 9: more than the limit of 9 primitives (about 210 bytes "
+              "its nodes that carry meshes number more than 9: more than the limit of 9 primitives (about 165 bytes "
               "of memory each when rendered; no scene may hold more than 4194304)");
     EXPECT_EQ(read_mesh_file(file, 10).nodes.size(), 10U);
 }
