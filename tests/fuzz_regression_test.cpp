@@ -5,6 +5,7 @@
 // fuzzer did.
 #include "compare/image_compare.h"
 #include "scene/loader.h"
+#include "scene/mesh_file.h"
 #include "tests/fuzz/bvh_differential.h"
 
 #include <gtest/gtest.h>
@@ -95,6 +96,28 @@ TEST(FuzzRegression, EveryImageInputIsReadOrRefusedWithAnErrorNamingTheFileWithi
         }
         EXPECT_LT(static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC, 60.0 * sanitizer_slowdown)
             << "CPU seconds";
+    }
+}
+
+// Mesh inputs (named with the extension that picks their reader) as a render reads them: through the reader
+// process, read or refused with a SceneError that names the file. Ten seconds of wall time, the reader's own CPU
+// being another process's: the recorded .glb took assimp more than ten before the reader walked its chunks.
+TEST(FuzzRegression, EveryMeshFileInputIsReadOrRefusedWithASceneErrorNamingTheFileWithinTenSeconds) {
+    std::vector<fs::path> inputs = recorded_inputs("mesh_file");
+    ASSERT_FALSE(inputs.empty()) << "tests/data/fuzz_regressions/mesh_file/ holds the .glb input";
+    for (const fs::path& input : inputs) {
+        SCOPED_TRACE(input.filename().string());
+        const auto start = std::chrono::steady_clock::now();
+        try {
+            const twinray::scene::MeshFileResult read =
+                twinray::scene::read_mesh_file(input, twinray::scene::max_scene_primitives);
+            EXPECT_FALSE(read.meshes.empty());
+        } catch (const twinray::scene::SceneError& refusal) {
+            EXPECT_NE(std::string(refusal.what()).find(input.string()), std::string::npos) << refusal.what();
+        } catch (const std::exception& error) {
+            ADD_FAILURE() << "refused with something other than a SceneError: " << error.what();
+        }
+        EXPECT_LT(seconds_since(start), 10.0 * sanitizer_slowdown) << "seconds";
     }
 }
 

@@ -695,6 +695,24 @@ TEST(GltfFile, ARequiredExtensionThatMayChangeTheMeshesIsRefusedAndOneOnMaterial
     }
 }
 
+// assimp allocates and clears what a .glb's header and chunks say before it reads them: lengths past the file's end
+// are refused first (a fuzzed file of 91 bytes claimed a 1.2 GB JSON chunk).
+TEST(GltfFile, AGlbWhoseLengthsRunPastItsEndIsRefusedBeforeAssimpReadsIt) {
+    const std::string glb = glb_of(test::octahedron_gltf(R"([{"name": "Gem", "mesh": 0}])", "[0]"));
+    std::string long_chunk = glb;
+    const std::uint32_t claimed = 0x4500029e;
+    std::memcpy(long_chunk.data() + 12, &claimed, sizeof claimed);
+    std::optional<SceneError> error = refusal_of(write_file("long_chunk.glb", long_chunk));
+    ASSERT_TRUE(error) << "read, not refused";
+    EXPECT_EQ(error->location(), "chunk at byte 12");
+    EXPECT_EQ(error->problem(),
+              "its length, 1157628574 bytes, runs past the file's end (" + std::to_string(glb.size()) + " bytes)");
+    error = refusal_of(write_file("truncated.glb", glb.substr(0, glb.size() - 4)));
+    ASSERT_TRUE(error) << "read, not refused";
+    EXPECT_EQ(error->problem(), "its header says " + std::to_string(glb.size()) + " bytes, more than the file's " +
+                                    std::to_string(glb.size() - 4));
+}
+
 struct RealGltf {
     std::string file;  // under /usr/share/assimp/models/glTF2
     std::size_t meshes;
