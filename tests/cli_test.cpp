@@ -1,4 +1,5 @@
 // The twinray command line as a user meets it: exit statuses, messages, and what is (not) written.
+#include "gltf_files.h"
 #include "run_twinray.h"
 
 #include <gtest/gtest.h>
@@ -82,6 +83,26 @@ TEST_F(CliTest, RenderReportsPixelsOverTheRayBudgetWithTheProbeCommandOfTheFirst
     }
     CommandResult plain = run_twinray("render " + scene("showcase.json") + " --width 64 -o " + output("s.png"));
     EXPECT_EQ(plain.output.find("ray budget"), std::string::npos) << plain.output;
+}
+
+// Each mesh line names the mesh and, in parentheses, the file it was read from, unless the name already begins with
+// it: a glTF file's mesh at the top level is "three_gems.gltf mesh 0", in `shapes` the shape is "shapes.gems".
+TEST_F(CliTest, RenderNamesEachMeshAndItsFileOnce) {
+    std::ofstream(folder_ / "three_gems.gltf")
+        << twinray::test::octahedron_gltf(twinray::test::three_gems_nodes, "[0]");
+    std::ofstream(folder_ / "gems.json") << R"({"format": "twinray-scene/1",
+      "camera": {"eye": [0, 1, 6], "look_at": [0, 0, 0]}, "lights": [{"position": [3, 5, 4]}],
+      "materials": {"red": {"color": [0.8, 0.2, 0.2]}},
+      "shapes": {"gems": {"type": "mesh", "file": "three_gems.gltf", "material": "red"}},
+      "objects": [ {"type": "mesh", "file": "three_gems.gltf", "material": "red"},
+                   {"type": "instance", "shape": "gems", "transform": [{"translate": [0, 2, 0]}]} ] })";
+    CommandResult result = run_twinray("render " + output("gems.json") + " --width 16 -o " + output("g.png"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    for (const char* line : {"shape:       three_gems.gltf mesh 0: 8 triangles, 6 vertices",
+                             "shape:       shapes.gems (three_gems.gltf): 24 triangles, 18 vertices"}) {
+        EXPECT_NE(result.output.find(line), std::string::npos) << line << " missing from:\n" << result.output;
+    }
+    EXPECT_EQ(result.output.find("mesh 0 (three_gems.gltf)"), std::string::npos) << result.output;
 }
 
 TEST_F(CliTest, RenderWritesExrWhenAskedByExtension) {

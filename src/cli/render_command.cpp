@@ -127,8 +127,10 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 // a ray must leave what it entered); `placed` says how many instances place a mesh shape.
 void print_mesh(const char* label, const std::string& name, const scene::MeshData& data, const std::string& placed) {
     const scene::MeshTopology topology = scene::topology_of(data);
+    // The file, unless the name already begins with it (a glTF file's mesh at the top level: "truck.glb mesh 2").
+    const bool file_named = data.file.empty() || name.starts_with(data.file + " ");
     std::printf("%s%s%s: %zu triangles, %zu vertices, %zu degenerate (never hit)%s; %s", label, name.c_str(),
-                data.file.empty() ? "" : (" (" + data.file + ")").c_str(), data.triangles.size(), data.vertices.size(),
+                file_named ? "" : (" (" + data.file + ")").c_str(), data.triangles.size(), data.vertices.size(),
                 data.degenerate.size(), data.smooth ? ", smooth" : "", topology.closed() ? "closed" : "open");
     if (!topology.closed()) {
         std::printf(" (%zu boundary, %zu non-manifold, %zu inconsistently wound edges)", topology.boundary_edges,

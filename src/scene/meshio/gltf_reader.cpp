@@ -7,6 +7,7 @@
 // such a file refused. It reads a file that requires an extension it lacks (Draco-compressed meshes: their accessors
 // then have no data, which glTF reads as zeros) as if the extension were not there: a file requiring an extension
 // that may change its geometry is refused.
+#include "math/transform.h"
 #include "scene/meshio/readers.h"
 
 #include <assimp/material.h>
@@ -71,13 +72,7 @@ bool is_finite(const Vec3& v) {
 // `inner` placed by `outer`: p ↦ L_o·(L_i·p + t_i) + t_o, in double.
 MeshNode composed(const MeshNode& outer, const MeshNode& inner) {
     MeshNode out;
-    for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) {
-            out.linear.row[r][c] = outer.linear.row[r][0] * inner.linear.row[0][c] +
-                                   outer.linear.row[r][1] * inner.linear.row[1][c] +
-                                   outer.linear.row[r][2] * inner.linear.row[2][c];
-        }
-    }
+    out.linear = math::product(outer.linear, inner.linear);
     out.translation = outer.linear * inner.translation + outer.translation;
     return out;
 }
