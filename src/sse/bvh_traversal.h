@@ -316,7 +316,7 @@ void for_each_crossing_of_lane(const CompiledShape& shape, const BvhLeaf& leaf, 
         const TriangleRecord* four[4];
         std::uint32_t places[4];
         for (std::uint32_t k = 0; k < 4; ++k) {
-            places[k] = shape.bvh.items[std::min(i + k, end - 1)].index;  // past the end: the last again, not visited
+            places[k] = std::min(i + k, end - 1);  // past the end: the last again, not visited
             four[k] = &shape.triangles.items[places[k]];
         }
         const TriangleHit4 crossings = crossing_of_four<P>(four, alone);
@@ -361,8 +361,7 @@ void for_each_crossing_inside(const CompiledScene& scene, const InstanceRecord& 
                 return;
             }
         }
-        for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
-            const std::uint32_t place = shape.bvh.items[i].index;
+        for (std::uint32_t place = leaf.first; place < leaf.first + leaf.count; ++place) {
             TriangleHit4 crossing = triangle_crossing<P>(shape.triangles.items[place], sheared);
             if (any(crossing.valid)) {
                 visit(crossing, place);

@@ -365,7 +365,16 @@ private:
                                                  InstancesByDistance* deferred) const {
         const InstanceBox& box = scene_.instance_boxes[box_place];
         NodeTest met = test_instance_box(box, box_rays, rays.active, nearest.t);
-        if (any(met.hit) && (deferred == nullptr || !deferred->add(box.record, met))) {
+        if (none(met.hit)) {
+            return;
+        }
+        // The record (its 120 bytes over two or three cache lines) is read next, mostly once the leaf's other
+        // items are tested: fetched from here, as at 100 000 instances it is a miss (3 % of the first hits' time).
+        const char* record = reinterpret_cast<const char*>(&scene_.instances[box.record]);
+        _mm_prefetch(record, _MM_HINT_T0);
+        _mm_prefetch(record + 64, _MM_HINT_T0);
+        _mm_prefetch(record + sizeof(InstanceRecord) - 1, _MM_HINT_T0);
+        if (deferred == nullptr || !deferred->add(box.record, met)) {
             keep_crossings_inside(rays, box.record, met.hit, nearest);
         }
     }
