@@ -711,6 +711,10 @@ TEST(GltfFile, AGlbWhoseLengthsRunPastItsEndIsRefusedBeforeAssimpReadsIt) {
     ASSERT_TRUE(error) << "read, not refused";
     EXPECT_EQ(error->problem(), "its header says " + std::to_string(glb.size()) + " bytes, more than the file's " +
                                     std::to_string(glb.size() - 4));
+    error = refusal_of(write_file("header_cut.glb", glb.substr(0, 10)));
+    ASSERT_TRUE(error) << "read, not refused";
+    EXPECT_EQ(error->problem(),
+              "it begins as a binary glTF (\"glTF\") but is 10 bytes long, shorter than the 12-byte header");
 }
 
 struct RealGltf {

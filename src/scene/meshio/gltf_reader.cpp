@@ -91,9 +91,16 @@ std::string json_text_of(const std::filesystem::path& file) {
     }
     std::error_code error;
     const std::uint64_t size = std::filesystem::file_size(file, error);
+    if (error) {
+        refuse_at("", "its size cannot be read: " + error.message());
+    }
+    if (in.gcount() < static_cast<std::streamsize>(sizeof header)) {
+        refuse_at("", "it begins as a binary glTF (\"glTF\") but is " + std::to_string(size) +
+                          " bytes long, shorter than the 12-byte header");
+    }
     std::uint32_t length = 0;  // the header's: magic, version, length
     std::memcpy(&length, header + 8, sizeof length);
-    if (error || in.gcount() < static_cast<std::streamsize>(sizeof header) || length > size) {
+    if (length > size) {
         refuse_at("",
                   "its header says " + std::to_string(length) + " bytes, more than the file's " + std::to_string(size));
     }
