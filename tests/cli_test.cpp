@@ -1,6 +1,7 @@
 // The twinray command line as a user meets it: exit statuses, messages, and what is (not) written.
 #include "gltf_files.h"
 #include "run_twinray.h"
+#include "test_output.h"
 
 #include <gtest/gtest.h>
 
@@ -33,12 +34,7 @@ std::string malformed(const std::string& name) {
 
 class CliTest : public ::testing::Test {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        folder_ = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "cli" / info->name();
-        fs::remove_all(folder_);
-        fs::create_directories(folder_);
-    }
+    void SetUp() override { folder_ = twinray::test::fresh_directory(twinray::test::own_output_path("cli")); }
     std::string output(const std::string& name) const { return (folder_ / name).string(); }
     fs::path folder_;
 };

@@ -3,6 +3,7 @@
 // The real binary is run, killed and interrupted, as in tests/cli_test.cpp.
 #include "run_twinray.h"
 #include "sanitized_build.h"
+#include "test_output.h"
 
 #include <gtest/gtest.h>
 
@@ -53,15 +54,9 @@ void write_bytes(const fs::path& path, const std::string& bytes) {
 class FailureTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        std::string name = std::string(info->test_suite_name()) + "." + info->name();
-        for (char& c : name) {
-            c = (c == '/') ? '_' : c;
-        }
-        folder_ = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "failure" / name;
+        folder_ = twinray::test::own_output_path("failure");
         ::umount2(folder_.c_str(), MNT_DETACH);  // a tmpfs left by an earlier run that was killed
-        fs::remove_all(folder_);
-        fs::create_directories(folder_);
+        twinray::test::fresh_directory(folder_);
     }
     void TearDown() override {
         std::error_code ignored;

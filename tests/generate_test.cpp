@@ -11,6 +11,7 @@
 #include "scene/mesh_file.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
+#include "test_output.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -196,14 +197,7 @@ double signed_volume(const Mesh& mesh) {
 
 class GenerateTest : public ::testing::Test {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        std::string name = info->name();
-        std::replace(name.begin(), name.end(), '/', '_');
-        folder_ = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "generate" / name;
-        fs::remove_all(folder_);
-        fs::create_directories(folder_);
-    }
+    void SetUp() override { folder_ = twinray::test::fresh_directory(twinray::test::own_output_path("generate")); }
     std::string path(const std::string& name) const { return (folder_ / name).string(); }
     std::vector<std::string> files() const {
         std::vector<std::string> names;

@@ -7,6 +7,7 @@
 #include "sse/cpu.h"
 #include "sse/tracer.h"
 #include "tests/gltf_files.h"
+#include "tests/test_output.h"
 
 #include <gtest/gtest.h>
 
@@ -269,19 +270,10 @@ TEST_F(ExactInstances, TheSseTracerGivenUpTheGeometryRendersTheSameImage) {
 // A glTF file's nodes (tests/gltf_files.h: one octahedron placed by three nodes under a parent that halves and lifts
 // them): instances of one mesh shape at the top level, one mesh placed by them in `shapes`.
 
-// A directory of the running test's own: ctest runs these tests in parallel, and one rewriting a file another
-// reads made assimp read it empty.
-std::filesystem::path own_gltf_directory() {
-    const std::filesystem::path dir = std::filesystem::path(TWINRAY_TEST_OUTPUT_DIR) / "instance_gltf" /
-                                      ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    std::filesystem::create_directories(dir);
-    return dir;
-}
-
 // `scene_text` written beside three_gems.gltf and loaded from there, at most `max_primitives`.
 scene::Scene load_beside_gltf(const std::string& name, const std::string& scene_text,
                               std::size_t max_primitives = scene::max_scene_primitives) {
-    const std::filesystem::path dir = own_gltf_directory();
+    const std::filesystem::path dir = test::fresh_directory(test::own_output_path("instance_gltf"));
     std::ofstream(dir / "three_gems.gltf") << test::octahedron_gltf(test::three_gems_nodes, "[0]");
     return scene::parse_scene(scene_text, (dir / name).string(), max_primitives);
 }
@@ -411,7 +403,7 @@ TEST(GltfInstances, WhatTheNodesPlacePastThePrimitiveLimitIsRefusedNamingTheFile
 }
 
 TEST(GltfInstances, ANodeTransformPastTheConditionLimitIsRefusedNamingTheFileAndNode) {
-    const std::filesystem::path dir = own_gltf_directory();
+    const std::filesystem::path dir = test::fresh_directory(test::own_output_path("instance_gltf"));
     std::ofstream(dir / "flat.gltf") << test::octahedron_gltf(
         R"([{"name": "Flat", "mesh": 0, "scale": [1, 1e-6, 1]}, {"name": "Fine", "mesh": 0}])", "[0, 1]");
     const std::string conditioned = "the transform is too badly conditioned: its condition number";

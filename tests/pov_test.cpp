@@ -15,6 +15,7 @@
 #include "tests/gltf_files.h"
 #include "tests/run_twinray.h"
 #include "tests/scene_files.h"
+#include "tests/test_output.h"
 
 #include <gtest/gtest.h>
 
@@ -610,12 +611,7 @@ using twinray::test::run_twinray;
 
 class PovCommand : public ::testing::Test {
 protected:
-    void SetUp() override {
-        folder_ = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "pov_command" /
-                  ::testing::UnitTest::GetInstance()->current_test_info()->name();
-        fs::remove_all(folder_);
-        fs::create_directories(folder_);
-    }
+    void SetUp() override { folder_ = twinray::test::fresh_directory(twinray::test::own_output_path("pov_command")); }
     fs::path folder_;
 };
 
