@@ -125,10 +125,11 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // One mesh's triangles, those with no area that no tracer ever hits, and its topology (glass needs a closed mesh:
 // a ray must leave what it entered); `placed` says how many instances place a mesh shape.
-void print_mesh(const char* label, const std::string& name, const scene::MeshData& data, const std::string& placed) {
+// The file is left out where the name begins with it (a glTF file's mesh at the top level: "truck.glb mesh 2").
+void print_mesh(const char* label, const std::string& name, bool name_begins_with_file, const scene::MeshData& data,
+                const std::string& placed) {
     const scene::MeshTopology topology = scene::topology_of(data);
-    // The file, unless the name already begins with it (a glTF file's mesh at the top level: "truck.glb mesh 2").
-    const bool file_named = data.file.empty() || name.starts_with(data.file + " ");
+    const bool file_named = data.file.empty() || name_begins_with_file;
     std::printf("%s%s%s: %zu triangles, %zu vertices, %zu degenerate (never hit)%s; %s", label, name.c_str(),
                 file_named ? "" : (" (" + data.file + ")").c_str(), data.triangles.size(), data.vertices.size(),
                 data.degenerate.size(), data.smooth ? ", smooth" : "", topology.closed() ? "closed" : "open");
@@ -144,6 +145,7 @@ void print_mesh(const char* label, const std::string& name, const scene::MeshDat
 struct MeshLine {
     const char* label;
     std::string name;
+    bool name_begins_with_file;
     std::shared_ptr<const scene::MeshData> data;
     std::string placed;
 };
@@ -155,12 +157,14 @@ std::vector<MeshLine> mesh_lines(const scene::Scene& scene) {
         if (mesh.placement) {
             ++instances[static_cast<std::size_t>(mesh.placement->shape)];
         } else {
-            lines.push_back({"mesh:        ", scene.leaf_paths[static_cast<std::size_t>(mesh.leaf)], mesh.data, ""});
+            lines.push_back(
+                {"mesh:        ", scene.leaf_paths[static_cast<std::size_t>(mesh.leaf)], false, mesh.data, ""});
         }
     }
     for (std::size_t i = 0; i < scene.mesh_shapes.size(); ++i) {
         const std::size_t count = instances[i];
-        lines.push_back({"shape:       ", scene.mesh_shapes[i].name, scene.mesh_shapes[i].data,
+        const scene::MeshShape& shape = scene.mesh_shapes[i];
+        lines.push_back({"shape:       ", shape.name, shape.name_begins_with_file, shape.data,
                          "; placed by " + std::to_string(count) + (count == 1 ? " instance" : " instances")});
     }
     return lines;
@@ -169,7 +173,7 @@ std::vector<MeshLine> mesh_lines(const scene::Scene& scene) {
 // The meshes' lines; then what the loader read and does not use.
 void print_meshes(const std::vector<MeshLine>& lines, const scene::Scene& scene) {
     for (const MeshLine& line : lines) {
-        print_mesh(line.label, line.name, *line.data, line.placed);
+        print_mesh(line.label, line.name, line.name_begins_with_file, *line.data, line.placed);
     }
     for (const std::string& warning : scene.warnings) {
         std::fprintf(stderr, "twinray render: warning: %s\n", warning.c_str());

@@ -513,7 +513,7 @@ private:
             auto data = std::make_shared<MeshData>(std::move(contents.meshes[m]));
             shade_mesh(node, *data);
             data->degenerate = degenerate_triangles(*data);
-            scene_.mesh_shapes.push_back(MeshShape{file + " mesh " + std::to_string(m), std::move(data), -1});
+            scene_.mesh_shapes.push_back(MeshShape{file + " mesh " + std::to_string(m), std::move(data), -1, true});
         }
         primitives_ += triangles;
         for (const MeshNode& file_node : contents.nodes) {

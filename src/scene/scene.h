@@ -174,6 +174,7 @@ struct MeshShape {
     std::string name;  // what a hit on an instance names besides the instance: "shapes.tree", "truck.gltf mesh 2"
     std::shared_ptr<const MeshData> data;
     int material = -1;
+    bool name_begins_with_file = false;  // a glTF file's mesh, named after the file
 };
 
 // Every leaf's path: a top-level element's, "objects[k]" as the loader writes it, in 4 bytes (k alone), any other in
