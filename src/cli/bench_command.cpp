@@ -300,7 +300,9 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
         "Scaling against peers: first hits of primary rays (ns/ray, sse --accel " + accel_name(arguments.accel) +
         "; Embree on the widest kernels this CPU runs and on its SSE4.2 ones, on meshes also with "
         "RTC_SCENE_FLAG_ROBUST, and its coherent rtcIntersect4/8/16 on the widest, the fastest shown) and whole "
-        "renders (s, sse bvh) "
+        "renders (s, sse --accel " +
+        accel_name(arguments.accel) +
+        ") "
         "against POV-Ray 3.7 +WT1 without its start-up "
         "(its trace, as its statistics give it); CPU time of one thread, " +
         scaling_setting;
@@ -323,7 +325,7 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
                                     "povray +WT1 s (process)",
                                     "povray parse + bounding s",
                                     "povray trace s",
-                                    "sse bvh render s",
+                                    "sse render s",
                                     "povray trace/sse",
                                     "povray trace ns/ray",
                                     "10x budget ns/ray"};

@@ -206,8 +206,9 @@ struct SizeRun {
     }
 
     // First hits of the SSE tracer (--accel as given), Embree's rtcIntersect1 (embree_variants) and its coherent
-    // packets on the same primary rays, both BVHs' builds, and POV-Ray's trace against the SSE BVH's render, at the
-    // SSE BVH's width.
+    // packets on the same primary rays, both BVHs' builds, and POV-Ray's trace against the SSE tracer's render at the
+    // SSE BVH's width, with --accel as given: what `twinray render` runs (at 10 spheres, auto's brute force renders
+    // in about half the BVH's time).
     void peers(const Timings& sse_bvh, int sse_width) const {
         progress(" first-hits, builds");
         RenderOptions options;
@@ -283,7 +284,13 @@ struct SizeRun {
 #endif
         row.insert(row.end(), embree.begin(), embree.end());
         row.push_back(sse_width > 0 ? image_text(scene, sse_width) : "—");
-        double sse_seconds = sse_width > 0 ? median(sse_bvh.tracing_cpu_seconds) : 0;
+        Timings sse_render = sse_bvh;
+        if (sse_width > 0 && arguments.peers && povray && arguments.accel != Accel::bvh) {
+            progress(" sse " + accel_name(arguments.accel));
+            sse_render =
+                time_renders({{"sse", "sse", {}, 1}}, scene, sse_width, arguments.runs, nullptr, arguments.accel)[0];
+        }
+        double sse_seconds = sse_width > 0 ? median(sse_render.tracing_cpu_seconds) : 0;
         if (sse_width == 0) {
             row.insert(row.end(), {"—", "", "", "", "", "", ""});
         } else if (!arguments.peers) {
@@ -298,7 +305,7 @@ struct SizeRun {
                 // parse takes 15 s and the trace 1 to 3, too little a difference of two whole processes to
                 // survive their noise.
                 double trace = pov.trace_cpu[0];
-                double pov_ns_per_ray = trace * 1e9 / static_cast<double>(sse_bvh.rays);
+                double pov_ns_per_ray = trace * 1e9 / static_cast<double>(sse_render.rays);
                 row.insert(row.end(),
                            {cell("%.3f", pov.frame_cpu[0]), cell("%.3f", pov.set_up_cpu[0]), cell("%.3f", trace),
                             cell("%.4f", sse_seconds), cell("%.1f", trace / sse_seconds), cell("%.1f", pov_ns_per_ray),
