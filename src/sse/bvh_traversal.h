@@ -113,11 +113,13 @@ inline float order_of(const PacketPending& entry) {
     return entry.least_near;
 }
 
-// A child the walk will visit: its node's two cache lines, or its leaf's first items, fetched while the walk
-// tests its siblings and pops their subtrees (at a million primitives each is a miss).
-inline void prefetch_child(const Bvh& bvh, std::uint32_t first, std::uint32_t count) {
+// A child the walk will visit: its node's two cache lines, or the first bytes of its leaf's records (`leaf_records`:
+// the BVH's items, or a shape's triangles, which its leaves read at their places), fetched while the walk tests its
+// siblings and pops their subtrees (at a million primitives each is a miss).
+template <typename Record>
+void prefetch_child(const Bvh& bvh, const LargeArray<Record>& leaf_records, std::uint32_t first, std::uint32_t count) {
     const char* bytes = count == 0 ? reinterpret_cast<const char*>(&bvh.nodes[first])
-                                   : reinterpret_cast<const char*>(&bvh.items[first]);
+                                   : reinterpret_cast<const char*>(&leaf_records[first]);
     _mm_prefetch(bytes, _MM_HINT_T0);
     _mm_prefetch(bytes + 64, _MM_HINT_T0);
 }
@@ -137,9 +139,9 @@ TWINRAY_KERNEL void push_in_order(Entry* stack, int base, int& size, const Entry
 // Lane `lane` alone down the subtree at nodes[root], four boxes a test: where a packet has diverged to one
 // ray, testing four boxes for it at once costs a quarter of testing one box for all four lanes, three of them
 // idle. at_leaf still runs the packet's kernels (any crossing it keeps for another lane is a true one).
-template <typename AtLeaf>
-void walk_one_lane(const Bvh& bvh, const BvhRays& rays, int lane, std::uint32_t root, vbool4& lanes,
-                   const vfloat4& t_max, AtLeaf& at_leaf) {
+template <typename Record, typename AtLeaf>
+void walk_one_lane(const Bvh& bvh, const LargeArray<Record>& leaf_records, const BvhRays& rays, int lane,
+                   std::uint32_t root, vbool4& lanes, const vfloat4& t_max, AtLeaf& at_leaf) {
     const LaneRay ray(rays, lane);
     const int lane_bit = 1 << lane;
     LanePending stack[bvh_stack_size];
@@ -167,7 +169,7 @@ void walk_one_lane(const Bvh& bvh, const BvhRays& rays, int lane, std::uint32_t 
         const int base = size;
         for (int c = 0; c < 4; ++c) {
             if (met & (1 << c)) {
-                prefetch_child(bvh, node.first[c], node.count[c]);
+                prefetch_child(bvh, leaf_records, node.first[c], node.count[c]);
                 push_in_order(stack, base, size, LanePending{entries[c], node.first[c], node.count[c]});
             }
         }
@@ -178,9 +180,11 @@ void walk_one_lane(const Bvh& bvh, const BvhRays& rays, int lane, std::uint32_t 
 // lower t_max and clear lanes (rays that are done); both are read again at every node, and the walk stops
 // when no lane is left. A node's children met are visited nearest first (by the least entry of any lane).
 // Below a node only one lane still meets, that lane walks on alone (walk_one_lane). The stack holds at most
-// three pending siblings a level: bvh_stack_size bounds it.
-template <typename AtLeaf>
-void for_each_leaf_met(const Bvh& bvh, const BvhRays& rays, vbool4& lanes, const vfloat4& t_max, AtLeaf&& at_leaf) {
+// three pending siblings a level: bvh_stack_size bounds it. `leaf_records`: what a leaf reads first
+// (prefetch_child).
+template <typename Record, typename AtLeaf>
+void for_each_leaf_met(const Bvh& bvh, const LargeArray<Record>& leaf_records, const BvhRays& rays, vbool4& lanes,
+                       const vfloat4& t_max, AtLeaf&& at_leaf) {
     PacketPending stack[bvh_stack_size];
     int size = 0;
     stack[size++] = {select(lanes, vfloat4(0.0f), vfloat4(infinity)).m, 0, 0, 0.0f};
@@ -199,8 +203,8 @@ void for_each_leaf_met(const Bvh& bvh, const BvhRays& rays, vbool4& lanes, const
             continue;
         }
         if ((meeting_bits & (meeting_bits - 1)) == 0) {
-            walk_one_lane(bvh, rays, __builtin_ctz(static_cast<unsigned>(meeting_bits)), pending.first, lanes, t_max,
-                          at_leaf);
+            walk_one_lane(bvh, leaf_records, rays, __builtin_ctz(static_cast<unsigned>(meeting_bits)), pending.first,
+                          lanes, t_max, at_leaf);
             if (none(lanes)) {
                 return;
             }
@@ -211,7 +215,7 @@ void for_each_leaf_met(const Bvh& bvh, const BvhRays& rays, vbool4& lanes, const
         for (int c = 0; c < 4 && node.count[c] != BvhNode::empty_child; ++c) {
             NodeTest child = test_child(node, c, rays, t_max, meeting);
             if (any(child.hit)) {
-                prefetch_child(bvh, node.first[c], node.count[c]);
+                prefetch_child(bvh, leaf_records, node.first[c], node.count[c]);
                 push_in_order(stack, base, size,
                               PacketPending{child.near.m, node.first[c], node.count[c], horizontal_min(child.near)});
             }
@@ -349,7 +353,7 @@ void for_each_crossing_inside(const CompiledScene& scene, const InstanceRecord& 
     }
     ShearedRays alone_frame;  // lane `framed`'s, made when a leaf first needs it
     int framed = -1;
-    for_each_leaf_met(shape.bvh, BvhRays(object), lanes, t_max, [&](BvhLeaf leaf) {
+    for_each_leaf_met(shape.bvh, shape.triangles.items, BvhRays(object), lanes, t_max, [&](BvhLeaf leaf) {
         const int alone = lane_alone_at(leaf, lanes);
         if constexpr (!P::moller_trumbore) {
             if (alone >= 0 && leaf.count > 1) {

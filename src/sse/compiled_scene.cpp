@@ -489,13 +489,13 @@ private:
             shape.triangles = std::move(in_file_order);
         } else {
             shape.bvh = build_bvh(std::move(inputs));
-            for (BvhItem& item : shape.bvh.items) {
+            for (const BvhItem& item : shape.bvh.items) {
                 shape.triangles.items.push_back(in_file_order.items[item.index]);
                 if (data.smooth) {
                     shape.triangles.corners.push_back(in_file_order.corners[item.index]);
                 }
-                item.index = static_cast<std::uint32_t>(shape.triangles.items.size() - 1);
             }
+            shape.bvh.items = {};  // a leaf's triangles are at its places now
         }
         shape.frames.reserve(shape.triangles.items.size());
         for (const TriangleRecord& triangle : shape.triangles.items) {

@@ -223,7 +223,7 @@ public:
             vbool4 lanes = rays.active;
             const BvhRays box_rays(rays);
             InstancesByDistance instances;
-            for_each_leaf_met(scene_.bvh, box_rays, lanes, nearest.t, [&](BvhLeaf leaf) {
+            for_each_leaf_met(scene_.bvh, scene_.bvh.items, box_rays, lanes, nearest.t, [&](BvhLeaf leaf) {
                 for_each_span_in_leaf<P>(
                     scene_, leaf, rays, sheared, csg, keep_and_fetch, keep_triangle,
                     [&](std::uint32_t box_place) { meet_instance(rays, box_rays, box_place, nearest, &instances); });
@@ -312,7 +312,7 @@ public:
             csg.collect();
             vbool4 lanes = rays.active;
             const BvhRays box_rays(rays);
-            for_each_leaf_met(scene_.bvh, box_rays, lanes, vfloat4(distance), [&](BvhLeaf leaf) {
+            for_each_leaf_met(scene_.bvh, scene_.bvh.items, box_rays, lanes, vfloat4(distance), [&](BvhLeaf leaf) {
                 for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, add_span, add_mesh_triangle,
                                          [&](std::uint32_t box_place) { add_instance(box_rays, box_place); });
             });

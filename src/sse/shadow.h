@@ -131,7 +131,7 @@ public:
             if (!scene_.bvh.empty() && any(open)) {
                 csg.collect();
                 const BvhRays box_rays(rays);
-                for_each_leaf_met(scene_.bvh, box_rays, open, distance, [&](BvhLeaf leaf) {
+                for_each_leaf_met(scene_.bvh, scene_.bvh.items, box_rays, open, distance, [&](BvhLeaf leaf) {
                     for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle,
                                              [&](std::uint32_t box_place) { block_instance(box_rays, box_place); });
                 });
@@ -185,7 +185,7 @@ public:
                 for_each_span<P>(scene_.flat(), rays, record);
                 csg.collect();
                 vbool4 all_lanes = lanes;
-                for_each_leaf_met(scene_.bvh, box_rays, all_lanes, distance, [&](BvhLeaf leaf) {
+                for_each_leaf_met(scene_.bvh, scene_.bvh.items, box_rays, all_lanes, distance, [&](BvhLeaf leaf) {
                     for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, record, record_triangle,
                                              record_instance);
                 });
