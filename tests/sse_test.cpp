@@ -260,7 +260,7 @@ TEST(SseTriangles, OneRayAgainstFourTrianglesAgreesBitForBitWithThePacketKernel)
             for (std::size_t first = 0; first + 4 <= triangles.size(); first += 4) {
                 const TriangleRecord* four[4] = {&triangles[first], &triangles[first + 1], &triangles[first + 2],
                                                  &triangles[first + 3]};
-                const TriangleHit4 together = crossing_of_four<P>(four, alone);
+                const TriangleHit4 together = crossing_of_four<P>(block_of(four), alone);
                 for (int k = 0; k < 4; ++k) {
                     const TriangleHit4 packet_kernel = crossing_of<P>(*four[k], sheared);
                     const bool expected = ((movemask(packet_kernel.valid) >> lane) & 1) != 0;

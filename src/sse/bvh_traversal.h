@@ -153,26 +153,38 @@ void walk_one_lane(const Bvh& bvh, const LargeArray<Record>& leaf_records, const
         if (!(pending.near <= limit)) {
             continue;
         }
-        if (pending.count > 0) {
-            at_leaf(BvhLeaf{pending.first, pending.count, lane});
-            if ((movemask(lanes) & lane_bit) == 0) {
-                return;
+        // Down to a leaf: a node's only child met is entered at once, with no trip through the stack and no prefetch
+        // of what is read next (inside a small shape, nearly every node); of several, the nearest, the rest pushed.
+        while (pending.count == 0) {
+            const BvhNode& node = bvh.nodes[pending.first];
+            vfloat4 near;
+            int met = ray.children_met(node, limit, near);
+            if (met == 0) {
+                break;
             }
-            limit = t_max.lane(lane);
-            continue;
-        }
-        const BvhNode& node = bvh.nodes[pending.first];
-        vfloat4 near;
-        int met = ray.children_met(node, limit, near);
-        alignas(16) float entries[4];
-        near.store(entries);
-        const int base = size;
-        for (int c = 0; c < 4; ++c) {
-            if (met & (1 << c)) {
+            alignas(16) float entries[4];
+            near.store(entries);
+            if ((met & (met - 1)) == 0) {
+                const int c = __builtin_ctz(static_cast<unsigned>(met));
+                pending = {entries[c], node.first[c], node.count[c]};
+                continue;
+            }
+            const int base = size;
+            for (; met != 0; met &= met - 1) {
+                const int c = __builtin_ctz(static_cast<unsigned>(met));
                 prefetch_child(bvh, leaf_records, node.first[c], node.count[c]);
                 push_in_order(stack, base, size, LanePending{entries[c], node.first[c], node.count[c]});
             }
+            pending = stack[--size];
         }
+        if (pending.count == 0) {
+            continue;  // a node whose children the ray all misses
+        }
+        at_leaf(BvhLeaf{pending.first, pending.count, lane});
+        if ((movemask(lanes) & lane_bit) == 0) {
+            return;
+        }
+        limit = t_max.lane(lane);
     }
 }
 
@@ -316,23 +328,18 @@ template <typename P, typename Visit>
 void for_each_crossing_of_lane(const CompiledShape& shape, const BvhLeaf& leaf, const ShearedRays& alone, int lane,
                                Visit&& visit) {
     const std::uint32_t end = leaf.first + leaf.count;
-    for (std::uint32_t i = leaf.first; i < end; i += 4) {
-        const TriangleRecord* four[4];
-        std::uint32_t places[4];
-        for (std::uint32_t k = 0; k < 4; ++k) {
-            places[k] = std::min(i + k, end - 1);  // past the end: the last again, not visited
-            four[k] = &shape.triangles.items[places[k]];
-        }
-        const TriangleHit4 crossings = crossing_of_four<P>(four, alone);
-        const int valid = movemask(crossings.valid), front = movemask(crossings.front);
-        for (std::uint32_t k = 0; k < std::min<std::uint32_t>(4, end - i); ++k) {
-            if (((valid >> k) & 1) != 0) {
-                TriangleHit4 crossing;
-                crossing.valid = lanes_of(1 << lane);
-                crossing.t = vfloat4(crossings.t.lane(static_cast<int>(k)));
-                crossing.front = ((front >> k) & 1) != 0 ? all_true() : none_true();
-                visit(crossing, places[k]);
-            }
+    for (std::uint32_t i = leaf.first; i < end; i += 4) {  // leaf.first is a multiple of 4 (CompiledShape::blocks)
+        const TriangleHit4 crossings = crossing_of_four<P>(shape.blocks[i / 4], alone);
+        // Past the leaf's end, its last triangle repeated: not visited.
+        int valid = movemask(crossings.valid) & ((1 << std::min<std::uint32_t>(4, end - i)) - 1);
+        const int front = movemask(crossings.front);
+        for (; valid != 0; valid &= valid - 1) {
+            const int k = __builtin_ctz(static_cast<unsigned>(valid));
+            TriangleHit4 crossing;
+            crossing.valid = lanes_of(1 << lane);
+            crossing.t = vfloat4(crossings.t.lane(k));
+            crossing.front = ((front >> k) & 1) != 0 ? all_true() : none_true();
+            visit(crossing, i + static_cast<std::uint32_t>(k));
         }
     }
 }

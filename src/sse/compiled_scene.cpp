@@ -489,13 +489,31 @@ private:
             shape.triangles = std::move(in_file_order);
         } else {
             shape.bvh = build_bvh(std::move(inputs));
-            for (const BvhItem& item : shape.bvh.items) {
-                shape.triangles.items.push_back(in_file_order.items[item.index]);
-                if (data.smooth) {
-                    shape.triangles.corners.push_back(in_file_order.corners[item.index]);
+            const LargeArray<BvhItem> items = std::move(shape.bvh.items);  // a leaf's triangles go to its places
+            for (BvhNode& node : shape.bvh.nodes) {
+                for (int c = 0; c < 4; ++c) {
+                    const std::uint32_t count = node.count[c];
+                    if (count == 0 || count == BvhNode::empty_child) {
+                        continue;
+                    }
+                    const std::uint32_t first = node.first[c];
+                    node.first[c] = static_cast<std::uint32_t>(shape.triangles.items.size());
+                    for (std::uint32_t k = 0; k < (count + 3) / 4 * 4; ++k) {
+                        const std::uint32_t index = items[first + std::min(k, count - 1)].index;
+                        shape.triangles.items.push_back(in_file_order.items[index]);
+                        if (data.smooth) {
+                            shape.triangles.corners.push_back(in_file_order.corners[index]);
+                        }
+                    }
                 }
             }
-            shape.bvh.items = {};  // a leaf's triangles are at its places now
+            for (std::size_t place = 0; place < shape.triangles.items.size(); place += 4) {
+                const TriangleRecord* four[4];
+                for (std::size_t k = 0; k < 4; ++k) {
+                    four[k] = &shape.triangles.items[place + k];
+                }
+                shape.blocks.push_back(block_of(four));
+            }
         }
         shape.frames.reserve(shape.triangles.items.size());
         for (const TriangleRecord& triangle : shape.triangles.items) {

@@ -126,6 +126,10 @@ struct CompiledShape {
     // (16 bytes a triangle of a shape, none for a scene's own meshes).
     LargeArray<TriangleFrame> frames;
     Bvh bvh;
+    // With a BVH: `triangles` four by four (blocks[k] holds places 4k to 4k + 3), for one ray's test of a leaf's four
+    // at once; each leaf then starts at a multiple of four, its last triangle repeated up to the next (36 bytes a
+    // triangle, and about 1.5 triangles a leaf repeated in every array by place).
+    LargeArray<TriangleBlock> blocks;
     CompiledMesh mesh;
 };
 
