@@ -56,10 +56,10 @@ std::optional<Span<T>> span_of(const BoxShape<T>& box, const Ray<T>& ray) {
     return Span<T>{enter, exit};
 }
 
-// The coordinate of the face hit (the normal's dominant axis, the nearer of its two faces) set exactly to the
-// face's: p' is on the face with no error. Dominant, not non-zero: a turned box's normal comes back into object
-// space with rounding residue off its axis (transformed.h). The next ray compares its origin with the face by face − o, exact where they are
-// within a factor of two (Sterbenz), so an origin one ulp off the face is on the right side: γ(3)·|p'|∞
+// The coordinate of the face hit (the normal's dominant axis, the nearer of its two faces) set exactly to the face's:
+// p' is on the face with no error. Dominant, not non-zero: a turned box's normal comes back into object space with
+// rounding residue off its axis (transformed.h). The next ray compares its origin with the face by face − o, exact
+// where they are within a factor of two (Sterbenz), so an origin one ulp off the face is on the right side: γ(3)·|p'|∞
 // moves it by at least one ulp.
 template <typename T>
 SurfacePoint<T> surface_point(const BoxShape<T>& box, Vec3<T> point, Vec3<T> normal) {

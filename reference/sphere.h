@@ -48,10 +48,10 @@ std::optional<Span<T>> span_of(const SphereShape<T>& sphere, const Ray<T>& ray) 
     return Span<T>{crossing(t0), crossing(t1)};
 }
 
-// p' = c + r·n̂ with n̂ the unit normal turned towards p (a CSG complement turns a crossing's normal): on the sphere within γ(5)·r (n̂ is unit within γ(4), times
-// r) plus one rounding of the sum per component (√3·u·|p'|∞ ≤ γ(2)·|p'|∞). The next ray decides its side by
-// the sign of |f|² − r² ≈ 2·r·distance, rounded within (γ(3) + 2u)·r² with f = o − c: a distance of γ(4)·r
-// settles it. The origin's own rounding adds γ(2)·|p'|∞.
+// p' = c + r·n̂ with n̂ the unit normal turned towards p (a CSG complement turns a crossing's normal): on the sphere
+// within γ(5)·r (n̂ is unit within γ(4), times r) plus one rounding of the sum per component (√3·u·|p'|∞ ≤ γ(2)·|p'|∞).
+// The next ray decides its side by the sign of |f|² − r² ≈ 2·r·distance, rounded within (γ(3) + 2u)·r² with f = o − c:
+// a distance of γ(4)·r settles it. The origin's own rounding adds γ(2)·|p'|∞.
 template <typename T>
 SurfacePoint<T> surface_point(const SphereShape<T>& sphere, Vec3<T> point, Vec3<T> normal) {
     T distance = dot(normal, point - sphere.center);  // ±|p − c|: the normal lies along p − c

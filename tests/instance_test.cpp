@@ -1,7 +1,7 @@
 // Instances of mesh shapes (docs/scene-format.md, "Shapes and instances"): how the loader resolves them, that an
-// instance placed exactly (translations on a binary grid, scales by powers of two) meets the same triangles at the
-// same t, bit for bit, as the mesh written in world coordinates (in the SSE tracer where the scale is even), and that the BVH over instances
-// answers as brute force does.
+// instance placed exactly (translations on a binary grid, scales by powers of two) meets the same triangles at the same
+// t, bit for bit, as the mesh written in world coordinates (in the SSE tracer where the scale is even), and that the
+// BVH over instances answers as brute force does.
 #include "reference/tracer.h"
 #include "scene/loader.h"
 #include "sse/cpu.h"
@@ -247,8 +247,8 @@ TEST_F(ExactInstances, TheBvhOverInstancesRendersAsBruteForceBitForBit) {
 }
 
 // A render that gives up the scene's objects, meshes and leaf paths (the render command's,
-// sse::Tracer::give_up_geometry) finds them empty afterwards and draws the image the tracer draws from a scene it keeps,
-// bit for bit, with its BVH and without.
+// sse::Tracer::give_up_geometry) finds them empty afterwards and draws the image the tracer draws from a scene it
+// keeps, bit for bit, with its BVH and without.
 TEST_F(ExactInstances, TheSseTracerGivenUpTheGeometryRendersTheSameImage) {
     if (!sse::cpu_supports_sse41()) {
         GTEST_SKIP() << sse::missing_sse41_message();

@@ -146,8 +146,9 @@ typedef struct twinray_scene {
     /* Every `object` above is below this. Where two surfaces meet a ray at the same t, the smaller object wins. */
     uint32_t object_count;
     /* Where most rays start, the camera's eye in world coordinates: a hint a float tracer may compile its scene
-     * relative to, as twinray's SSE tracer does (docs/numerics.md, "Far from the origin: re-basing"), so that a scene far from the
-     * origin keeps float's precision near the camera. It bounds nothing: rays may start anywhere. */
+     * relative to, as twinray's SSE tracer does (docs/numerics.md, "Far from the origin: re-basing"), so that a
+     * scene far from the origin keeps float's precision near the camera. It bounds nothing: rays may start
+     * anywhere. */
     double eye[3];
 } twinray_scene;
 

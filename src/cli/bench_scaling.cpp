@@ -285,7 +285,7 @@ struct SizeRun {
         row.insert(row.end(), embree.begin(), embree.end());
         row.push_back(sse_width > 0 ? image_text(scene, sse_width) : "—");
         Timings sse_render = sse_bvh;
-        if (sse_width > 0 && arguments.peers && povray && arguments.accel != Accel::bvh) {
+        if (sse_width > 0 && arguments.accel != Accel::bvh) {
             progress(" sse " + accel_name(arguments.accel));
             sse_render =
                 time_renders({{"sse", "sse", {}, 1}}, scene, sse_width, arguments.runs, nullptr, arguments.accel)[0];

@@ -57,8 +57,8 @@ struct GeneratedScene {
 //   triangles each) and 96 side quads: the 380g² (g >= 1) nearest.
 // - forest: one tree declared as a mesh shape (1 008 triangles, counted once) and exactly `size` instances of it
 //   on a jittered square grid, each turned, scaled and coloured at random (`size` counting the instances).
-// The closed meshes are counter-clockwise seen from outside. Ties go to the smaller scene. Throws std::invalid_argument for an unknown family or a size outside
-// 1..max_generated_primitives.
+// The closed meshes are counter-clockwise seen from outside. Ties go to the smaller scene. Throws
+// std::invalid_argument for an unknown family or a size outside 1..max_generated_primitives.
 GeneratedScene generate_scene(std::string_view family, int size, std::uint64_t seed, const SceneSink& sink);
 
 }  // namespace twinray::cli

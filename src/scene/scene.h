@@ -234,7 +234,8 @@ struct Scene {
     // The mesh or instance whose leaf this is, or null (meshes are in leaf order, as the loader reads them).
     const Mesh* mesh_of_leaf(int leaf) const;
     // What a hit names: the leaf's path, and for an instance of a mesh shape the shape it places,
-    // "objects[4] (shapes.tree)", "objects[3] node \"Wheel\" (truck.gltf mesh 2)". An instance's path alone is held, so that a million of them fit in short strings.
+    // "objects[4] (shapes.tree)", "objects[3] node \"Wheel\" (truck.gltf mesh 2)". Only an instance's path is held,
+    // so that a million of them fit in short strings.
     std::string leaf_name(int leaf) const;
 
     // Filled by the loader beside leaf_paths: leaf index -> material index.
@@ -246,11 +247,11 @@ struct Scene {
 
 constexpr int max_image_side = 16384;
 constexpr int max_trace_depth = 64;
-// Primitives (leaves, CSG children included, and every triangle of a mesh) in one scene. Memory sets this limit, not the ids (int32, 2^31):
-// `twinray render` peaks at about 165 bytes per primitive (the scene model, the compiled scene and the BVH;
-// docs/scene-format.md, "Limits"), so a scene at the limit needs about 0.7 GB (the reference tracer's render
-// about 2 GB). Four times the most `twinray generate` writes. The loader refuses a scene past it as it reads,
-// before it holds more.
+// Primitives (leaves, CSG children included, and every triangle of a mesh) in one scene. Memory sets this limit,
+// not the ids (int32, 2^31): `twinray render` peaks at about 165 bytes per primitive (the scene model, the compiled
+// scene and the BVH; docs/scene-format.md, "Limits"), so a scene at the limit needs about 0.7 GB (the reference
+// tracer's render about 2 GB). Four times the most `twinray generate` writes. The loader refuses a scene past it as
+// it reads, before it holds more.
 constexpr std::size_t max_scene_primitives = std::size_t{1} << 22;  // 4 194 304
 // What one primitive costs at the peak of a render, measured (docs/scene-format.md): for messages.
 constexpr std::size_t bytes_per_primitive = 165;

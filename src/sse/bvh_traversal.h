@@ -363,7 +363,7 @@ void for_each_crossing_inside(const CompiledScene& scene, const InstanceRecord& 
     for_each_leaf_met(shape.bvh, shape.triangles.items, BvhRays(object), lanes, t_max, [&](BvhLeaf leaf) {
         const int alone = lane_alone_at(leaf, lanes);
         if constexpr (!P::moller_trumbore) {
-            if (alone >= 0 && leaf.count > 1) {
+            if (alone >= 0) {
                 if (alone != framed) {
                     alone_frame = sheared.lane_alone(alone);
                     framed = alone;

@@ -114,11 +114,11 @@ struct CompiledMesh {
     LargeArray<Vec3> normals;  // by vertex (TriangleList::corners); empty when flat
 };
 
-// A mesh shape (scene::MeshShape) compiled once for all its instances, in its own space: its triangles (their
-// records' leaf is -1: an instance names the hit), in the order of its own BVH's leaves where it has one (a leaf's
-// triangles are triangles[first, first + count), and its BVH keeps no items: 8 bytes a triangle that would only repeat
-// their places), and its normals, if smooth (then its triangles' corners too). Its vertex box as a centre and a half extent
-// (rounded up to hold the double box), from which an instance's box in the world is made (instance_box).
+// A mesh shape (scene::MeshShape) compiled once for all its instances, in its own space: its triangles (their records'
+// leaf is -1: an instance names the hit), in the order of its own BVH's leaves where it has one (a leaf's triangles are
+// triangles[first, first + count), and its BVH keeps no items: 8 bytes a triangle that would only repeat their places),
+// and its normals, if smooth (then its triangles' corners too). Its vertex box as a centre and a half extent (rounded
+// up to hold the double box), from which an instance's box in the world is made (instance_box).
 struct CompiledShape {
     Packed4 center, half_extent;  // w = 0
     TriangleList triangles;

@@ -89,9 +89,9 @@ struct BvhStats {
 class Tracer {
 public:
     explicit Tracer(const scene::Scene& scene, const Precision& precision = {}, Accel accel = Accel::automatic);
-    // The same, and scene.objects, scene.meshes and scene.leaf_paths emptied once compiled, for a caller that reads none
-    // of them again (render): the compiled records are the tracer's own, and neither 600 000 spheres' objects (72 bytes
-    // each) nor a million instances' placements (136 MB) are held beside them.
+    // The same, and scene.objects, scene.meshes and scene.leaf_paths emptied once compiled, for a caller that reads
+    // none of them again (render): the compiled records are the tracer's own, and neither 600 000 spheres' objects (72
+    // bytes each) nor a million instances' placements (136 MB) are held beside them.
     struct GiveUpGeometry {};
     static constexpr GiveUpGeometry give_up_geometry{};
     Tracer(scene::Scene& scene, GiveUpGeometry, const Precision& precision = {}, Accel accel = Accel::automatic);

@@ -53,9 +53,9 @@ std::string tracer_summary(const std::string& name);  // one phrase, for --help
 // Empty when the tracer can run on this machine, else why not (the SSE tracer needs SSE4.1).
 std::string tracer_unavailable_reason(const std::string& name);
 
-// `scene` must outlive the tracer where render() is called; the rest reads only what the tracer built. `precision` applies to the SSE tracer only: knobs asked of another are refused
-// (std::invalid_argument), as is an unknown name. A plug-in throws plugin::UnsupportedKind, plugin::PluginUnusable
-// or, later, plugin::PluginFault.
+// `scene` must outlive the tracer where render() is called; the rest reads only what the tracer built. `precision`
+// applies to the SSE tracer only: knobs asked of another are refused (std::invalid_argument), as is an unknown name. A
+// plug-in throws plugin::UnsupportedKind, plugin::PluginUnusable or, later, plugin::PluginFault.
 std::unique_ptr<AnyTracer> make_tracer(const std::string& name, const scene::Scene& scene,
                                        const sse::Precision& precision = {}, Accel accel = Accel::automatic);
 
