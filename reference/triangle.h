@@ -137,6 +137,13 @@ std::optional<TriangleCrossing<T>> crossing_of(const MeshShape<T>& mesh, std::ui
     const Vec3<T>& c = mesh.vertices[corners[2]];
     const std::array<double, 3> o = detail::exactly(ray.origin), d = detail::exactly(ray.direction);
     const std::array<double, 3> va = detail::exactly(a), vb = detail::exactly(b), vc = detail::exactly(c);
+    // Past the predicates' exact range a sign is noise: a ray that starts beyond 2^339 (a ray tree that has left
+    // every object by 1e102) or a triangle out there is a miss, with the BVH or without; else a ray from 1e240
+    // "met" a triangle near the origin behind it, and only brute force tested it.
+    if (!math::within_exact_range(o) || !math::within_exact_range(va) || !math::within_exact_range(vb) ||
+        !math::within_exact_range(vc)) {
+        return std::nullopt;
+    }
     int side = math::sign_of_ray_edge_perturbed(o, d, va, vb);
     if (side == 0 || math::sign_of_ray_edge_perturbed(o, d, vb, vc) != side ||
         math::sign_of_ray_edge_perturbed(o, d, vc, va) != side) {

@@ -11,10 +11,20 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 
 namespace twinray::math {
 
 using Coordinates = std::array<double, 3>;
+
+// The magnitude every coordinate must stay below for the predicates to be exact (above: beyond it their
+// products overflow, and a sign is noise).
+constexpr double exact_coordinate_limit = 0x1p339;
+
+inline bool within_exact_range(const Coordinates& point) {
+    return std::fabs(point[0]) < exact_coordinate_limit && std::fabs(point[1]) < exact_coordinate_limit &&
+           std::fabs(point[2]) < exact_coordinate_limit;
+}
 
 // The sign (+1, −1 or 0) of E = direction · ((a − origin) × (b − origin)): the side of the edge a→b the
 // ray's line passes, seen along the direction (t ≥ 0 is not asked). For a triangle's three edges taken in
