@@ -758,6 +758,21 @@ TEST_F(GenerateTest, GenerateRefusesUnknownFamilyWithExitCode) {
     EXPECT_TRUE(files().empty());
 }
 
+// Each family's description starts a line of the help, "  forest  one tree ...", and the family option lists them all.
+TEST_F(GenerateTest, GenerateHelpDescribesEveryFamilyOnALineOfItsOwn) {
+    CommandResult result = run_twinray("generate --help");
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    const std::vector<std::string> families = all_families();
+    std::string listed;
+    for (std::size_t i = 0; i < families.size(); ++i) {
+        listed += (i == 0 ? "" : i + 1 == families.size() ? " or " : ", ") + families[i];
+        EXPECT_NE(result.output.find("\n  " + families[i] + "  "), std::string::npos)
+            << families[i] << " is not described in:\n"
+            << result.output;
+    }
+    EXPECT_NE(result.output.find(listed + "\n"), std::string::npos) << "no \"" << listed << "\" in:\n" << result.output;
+}
+
 TEST_F(GenerateTest, GenerateRefusesSizesOutsideOneToTheMaximum) {
     for (const char* size : {"0", "-3", "1000001", "many"}) {
         CommandResult result = run_twinray(std::string("generate field --size ") + size + " -o " + path("s.json"));

@@ -14,11 +14,22 @@
 #include <memory>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace twinray::cli {
 namespace {
 
 namespace fs = std::filesystem;
+
+// "fractal, field, ... or forest".
+std::string family_list() {
+    const std::vector<std::string>& names = generated_family_names();
+    std::string list;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    }
+    return list;
+}
 
 struct GenerateArguments {
     std::string family;
@@ -107,30 +118,9 @@ void add_generate_command(CLI::App& app, std::function<int()>& run) {
     auto arguments = std::make_shared<GenerateArguments>();
     CLI::App* command = app.add_subcommand(
         "generate",
-        "Write a large generated scene (twinray-scene/1), the same bytes for the same family, size and seed:\n"
-        "  fractal  a sphereflake (9 reflective spheres around each sphere, recursively) on a floor; the depth\n"
-        "           whose count, 1 + (9^(depth+1) - 1)/8, is nearest --size\n"
-        "  field    spheres, boxes and cylinders of random sizes and materials on a floor; exactly --size\n"
-        "  lattice  a 3-D lattice of cylinders joined by spheres, a x b x c nodes with sides differing by at\n"
-        "           most one; the count nearest --size\n"
-        "  csg      an array of CSG objects (differences, intersections, unions) on a floor; exactly --size\n"
-        "           (3 for a size of 2)\n"
-        "Counts include the floor plane; ties go to the smaller scene. Mesh families write one triangle mesh\n"
-        "on a floor, --size counting its triangles:\n"
-        "  sphere-mesh    a UV sphere, b bands and 2b slices, closed, smooth; the 4b(b - 1) nearest --size\n"
-        "  torus-mesh     a tilted torus, 3n x n segments, closed, smooth; the 6n^2 nearest --size\n"
-        "  tetra          the Sierpinski tetrahedron of depth d (SPD \"tetra\"), 4^d closed tetrahedra; the\n"
-        "                 largest 4 x 4^d not above --size (4 below that)\n"
-        "  sombrero       the height field sin(r)/r over n x n quads, open, smooth; the 2n^2 nearest --size\n"
-        "  triangle-soup  random triangles in a cube; exactly --size\n"
-        "  mount          a fractal mountain (SPD \"mount\"): a square of two triangles subdivided d times by\n"
-        "                 midpoint displacement, open, flat, and four glass spheres; the 2 x 4^d nearest --size\n"
-        "  gears          a g x g grid of meshing 24-tooth gears (SPD \"gears\"), closed prisms whose concave\n"
-        "                 faces are ear-clipped, flat; the 380g^2 nearest --size");
-    command
-        ->add_option("family", arguments->family,
-                     "fractal, field, lattice, csg, sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup, mount "
-                     "or gears")
+        "Write a large generated scene (twinray-scene/1), the same bytes for the same family, size and seed:\n" +
+            generated_families_help());
+    command->add_option("family", arguments->family, family_list())
         ->required()
         ->check(CLI::IsMember(generated_family_names()));
     command

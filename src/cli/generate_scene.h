@@ -25,6 +25,10 @@ constexpr int default_generated_primitives = 1000;
 // order in which help and messages list them.
 const std::vector<std::string>& generated_family_names();
 
+// What `generate --help` says of each family, grouped as the families are (of primitives, of one mesh, instanced), in
+// the order of generated_family_names().
+std::string generated_families_help();
+
 // Whether the family writes a mesh (sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup, mount, gears, forest).
 bool is_mesh_family(std::string_view family);
 
