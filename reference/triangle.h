@@ -65,6 +65,18 @@ bool degenerate_once_rounded(const MeshShape<T>& shape, std::uint32_t triangle) 
     }
 }
 
+// Past the predicates' exact range (math/exact_predicates.h, 2^339) a sign is noise: a triangle with a vertex out
+// there (in float, any vertex that rounds to infinity) is never hit, with the BVH or without.
+template <typename T>
+bool beyond_exact_range(const MeshShape<T>& shape, std::uint32_t triangle) {
+    for (std::uint32_t corner : shape.triangles[triangle]) {
+        if (!math::within_exact_range(detail::exactly(shape.vertices[corner]))) {
+            return true;
+        }
+    }
+    return false;
+}
+
 // An instance of a mesh shape (scene::Mesh::placement): the shape's triangles in its own space, built once and
 // shared by every instance (`shape`, an index into the tracer's), and this one's transform. A ray goes in as
 // transformed.h's do, o' = L⁻¹·(o − t), d' = L⁻¹·d, but d' is left as it is: the triangle test takes any
@@ -107,7 +119,7 @@ MeshShape<T> make_shape(const scene::MeshData& data, int leaf, Accel accel) {
     }
     std::vector<scene::Bounds> bounds;
     scene::for_each_live_triangle(data, [&](std::uint32_t i) {
-        if (degenerate_once_rounded(shape, i)) {
+        if (degenerate_once_rounded(shape, i) || beyond_exact_range(shape, i)) {
             return;
         }
         shape.live.push_back(i);
@@ -128,7 +140,8 @@ MeshShape<T> make_shape(const scene::Mesh& mesh, Accel accel) {
 // Hit when the three perturbed edge signs agree (both sides: no back-face culling). Their sum is
 // d·((b − a) × (c − a)) exactly, so agreeing signs also decide the side exactly: all negative, the ray meets
 // the front. t = ((a − o)·n) / (d·n) with n = (b − a) × (c − a), in T; a denominator that rounds to 0 (a ray
-// within rounding of the triangle's plane) gives no finite t and is a miss.
+// within rounding of the triangle's plane) gives no finite t and is a miss. The ray's origin and the vertices are
+// within the predicates' exact range (for_each_crossing and make_shape see to it).
 template <typename T>
 std::optional<TriangleCrossing<T>> crossing_of(const MeshShape<T>& mesh, std::uint32_t triangle, const Ray<T>& ray) {
     const std::array<std::uint32_t, 3>& corners = mesh.triangles[triangle];
@@ -137,13 +150,6 @@ std::optional<TriangleCrossing<T>> crossing_of(const MeshShape<T>& mesh, std::ui
     const Vec3<T>& c = mesh.vertices[corners[2]];
     const std::array<double, 3> o = detail::exactly(ray.origin), d = detail::exactly(ray.direction);
     const std::array<double, 3> va = detail::exactly(a), vb = detail::exactly(b), vc = detail::exactly(c);
-    // Past the predicates' exact range a sign is noise: a ray that starts beyond 2^339 (a ray tree that has left
-    // every object by 1e102) or a triangle out there is a miss, with the BVH or without; else a ray from 1e240
-    // "met" a triangle near the origin behind it, and only brute force tested it.
-    if (!math::within_exact_range(o) || !math::within_exact_range(va) || !math::within_exact_range(vb) ||
-        !math::within_exact_range(vc)) {
-        return std::nullopt;
-    }
     int side = math::sign_of_ray_edge_perturbed(o, d, va, vb);
     if (side == 0 || math::sign_of_ray_edge_perturbed(o, d, vb, vc) != side ||
         math::sign_of_ray_edge_perturbed(o, d, vc, va) != side) {
@@ -159,8 +165,14 @@ std::optional<TriangleCrossing<T>> crossing_of(const MeshShape<T>& mesh, std::ui
 
 // Calls visit(crossing) for every triangle the ray meets with t in (0, limit()], in no particular order;
 // limit() is read again at every BVH node.
+// A ray that starts beyond the predicates' exact range (a ray tree that has left every object by 1e102) meets no
+// triangle, with the BVH or without: else a ray from 1e240 "met" a triangle near the origin behind it, and only brute
+// force tested it.
 template <typename T, typename Limit, typename Visit>
 void for_each_crossing(const MeshShape<T>& mesh, const Ray<T>& ray, Limit&& limit, Visit&& visit) {
+    if (!math::within_exact_range(detail::exactly(ray.origin))) {
+        return;
+    }
     auto test = [&](std::uint32_t live_index) {
         if (std::optional<TriangleCrossing<T>> crossing = crossing_of(mesh, mesh.live[live_index], ray)) {
             if (crossing->t <= limit()) {

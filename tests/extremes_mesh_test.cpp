@@ -168,3 +168,34 @@ TEST(MeshBeyondTheExactRange, ARayFromBeyondTwoToThe339MeetsNoTriangleWithTheBvh
                                       << hit->triangle;
     }
 }
+
+// A vertex beyond 2^339 (1e300, which float rounds to infinity) takes its triangle out of every walk: a ray straight
+// down through it, which would cross it in exact geometry, meets only the triangle beside it that lies in range, in the
+// oracle with the BVH and without, and in the exact SSE tracer, whose float vertex is infinite.
+TEST(MeshBeyondTheExactRange, ATriangleWithAVertexBeyondTwoToThe339IsNeverHitAndItsNeighbourStill) {
+    if (!twinray::sse::cpu_supports_sse41()) {
+        GTEST_SKIP() << twinray::sse::missing_sse41_message();
+    }
+    test::SceneBuilder builder;
+    // Triangle 0 reaches out to 1e300 along x; triangle 1, a unit square's half, lies beside it along -x.
+    builder.add(test::mesh({{0, 0, 0}, {1e300, 0, 0}, {0, 1, 0}, {-1, 0, 0}}, {{0, 1, 2}, {0, 2, 3}}));
+    builder.scene().camera.eye = {0, 0, 5};
+    builder.scene().camera.look_at = {0, 0, 0};
+    const scene::Scene scene = builder.build();
+    const V down{0, 0, -1};
+    for (twinray::Accel accel : {twinray::Accel::none, twinray::Accel::bvh}) {
+        twinray::reference::Tracer<double> oracle(scene, accel);
+        twinray::sse::Tracer tracer(scene, {}, accel);
+        EXPECT_FALSE(oracle.intersect({{0.25, 0.25, 5}, down}).has_value()) << "accel " << static_cast<int>(accel);
+        EXPECT_FALSE(tracer.intersect({{0.25f, 0.25f, 5}, {0, 0, -1}}).has_value())
+            << "accel " << static_cast<int>(accel);
+        std::optional<twinray::reference::Hit<double>> beside = oracle.intersect({{-0.25, 0.25, 5}, down});
+        ASSERT_TRUE(beside.has_value()) << "accel " << static_cast<int>(accel);
+        EXPECT_EQ(beside->triangle, 1);
+        EXPECT_EQ(beside->t, 5.0);
+        std::optional<twinray::sse::Hit> sse_beside = tracer.intersect({{-0.25f, 0.25f, 5}, {0, 0, -1}});
+        ASSERT_TRUE(sse_beside.has_value()) << "accel " << static_cast<int>(accel);
+        EXPECT_EQ(sse_beside->triangle, 1);
+        EXPECT_EQ(sse_beside->t, 5.0f);
+    }
+}
