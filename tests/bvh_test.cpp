@@ -756,7 +756,7 @@ TEST_F(Bvh, LeafBoxesHoldTheirItemsPaddedBoundsAtEveryScale) {
         inputs.push_back(twinray::scene::around(a, b, 0.0));
         items.emplace_back(inputs.back(), twinray::sse::BvhItem{0, i});
     }
-    twinray::sse::Bvh bvh = twinray::sse::build_bvh(std::move(items));
+    twinray::sse::Bvh bvh = twinray::sse::build_bvh(std::move(items), twinray::sse::primitive_bvh_costs);
     std::size_t checked = 0, outside = 0;
     double worst = 0;  // the farthest a padded bound lies outside its leaf's box, in units of its pad
     walk(bvh, [&](const twinray::sse::BvhNode& node, int) {

@@ -16,11 +16,6 @@ namespace {
 constexpr int bin_count = 16;
 // Items binned at a time: their references (32 bytes each) and bins stay in L1 between the two passes.
 constexpr std::uint32_t block_items = 256;
-// The SAH's price of visiting a node, in primitive tests: a node of the collapsed tree is four box tests of a
-// packet and two cache lines. Measured against (4 items, cost 2): the same first-hit and render times from 100
-// to a million primitives, and half the bytes (docs/performance.md, "The BVH").
-constexpr std::uint32_t max_leaf_items = 8;
-constexpr float node_cost = 4.0f;
 constexpr float infinity_f = std::numeric_limits<float>::infinity();
 
 // The doubles `xy` and `z` (x, y and z) rounded to the float at or below each (`up`: at or above), so that
@@ -177,7 +172,8 @@ struct Range {
 
 class Builder {
 public:
-    explicit Builder(LargeArray<BvhInput>&& inputs) : references_(std::move(inputs)), bins_(references_.size()) {
+    Builder(LargeArray<BvhInput>&& inputs, const BvhCosts& costs)
+        : costs_(costs), references_(std::move(inputs)), bins_(references_.size()) {
         for (std::size_t i = 0; i < references_.size(); ++i) {
             references_[i].place = static_cast<std::uint32_t>(i);
         }
@@ -254,9 +250,9 @@ private:
         }
         const __m128 scale = area_scale(range.box);
         const float node_area = area(range.box, scale);
-        // The test below keeps a leaf of count <= node_cost items whatever split the sweep finds (best_cost >= 0),
+        // The test below keeps a leaf of count <= costs_.node items whatever split the sweep finds (best_cost >= 0),
         // unless the area is NaN (infinite coordinates): then the sweep cannot be skipped.
-        if (static_cast<float>(count) <= node_cost && count <= max_leaf_items && !std::isnan(node_area)) {
+        if (static_cast<float>(count) <= costs_.node && count <= costs_.max_leaf_items && !std::isnan(node_area)) {
             return split;
         }
         // As many bins as items, up to bin_count: a small node's sweep then costs no more than its binning.
@@ -327,8 +323,8 @@ private:
                 }
             }
         }
-        if (split.axis >= 0 && count <= max_leaf_items &&
-            static_cast<float>(count) * node_area <= node_cost * node_area + best_cost) {
+        if (split.axis >= 0 && count <= costs_.max_leaf_items &&
+            static_cast<float>(count) * node_area <= costs_.node * node_area + best_cost) {
             split.axis = -1;
         }
         return split;
@@ -387,6 +383,7 @@ private:
         return {halves[0], halves[1]};
     }
 
+    const BvhCosts costs_;
     LargeArray<BvhInput> references_;
     // Each item's bins in the node being split, kept in step with references_ by partition.
     LargeArray<ItemBins> bins_;
@@ -503,9 +500,9 @@ BvhInput::BvhInput(const scene::Bounds& bounds, BvhItem item) {
     packed_item = item.list << index_bits | item.index;
 }
 
-Bvh build_bvh(LargeArray<BvhInput> inputs) {
+Bvh build_bvh(LargeArray<BvhInput> inputs, const BvhCosts& costs) {
     // Two statements: the builder, and the inputs it sorted, are gone before the tree is collapsed.
-    BinaryTree binary = Builder(std::move(inputs)).run();
+    BinaryTree binary = Builder(std::move(inputs), costs).run();
     return collapse(std::move(binary));
 }
 

@@ -85,9 +85,25 @@ struct Bvh {
 // rounding of a hit point (a few ulps of the distances involved).
 constexpr double bvh_padding = 1.0 / 8192.0;
 
+// What the SAH weighs: a node's price in item tests, and the most items a leaf may hold.
+struct BvhCosts {
+    float node;
+    std::uint32_t max_leaf_items;
+};
+
+// The top level's items: a node of the collapsed tree is four box tests of a packet and two cache lines. Measured
+// against (cost 2, 4 items): the same first-hit and render times from 100 to a million primitives, and half the bytes
+// (docs/performance.md, "The BVH").
+constexpr BvhCosts primitive_bvh_costs{4.0f, 8};
+// A mesh's triangles: a lone lane tests a leaf's four at once (crossing_of_four), and a node costs it a chain of
+// dependent steps, so a node is worth about two such blocks. Measured against the top level's (4, 8): the forest of
+// 100 000 instances 5–8 % faster, of 10 000 about 4 %, meshes without instances the same (docs/performance.md,
+// "Larger leaves in a mesh's BVH").
+constexpr BvhCosts triangle_bvh_costs{8.0f, 16};
+
 // `inputs` in the order the leaves' items should keep among equals (the compiled lists' order); taken, and released
 // before the tree is collapsed.
-Bvh build_bvh(LargeArray<BvhInput> inputs);
+Bvh build_bvh(LargeArray<BvhInput> inputs, const BvhCosts& costs);
 
 // Bytes of nodes, items and file order.
 std::size_t bvh_bytes(const Bvh& bvh);

@@ -263,7 +263,7 @@ private:
     static void add_bvh(CompiledScene& out, LargeArray<BvhInput> bounded, const std::vector<BvhItem>& unbounded,
                         bool keep_triangle_file_order) {
         const double cpu_start = process_cpu_seconds();
-        out.bvh = build_bvh(std::move(bounded));
+        out.bvh = build_bvh(std::move(bounded), primitive_bvh_costs);
         out.bvh_build_cpu_seconds = process_cpu_seconds() - cpu_start;
         std::uint32_t list_index = 0;
         out.primitives.for_each_pair(out.unbounded, [&](const auto& all, auto& kept) {
@@ -488,7 +488,7 @@ private:
         if (accel_ == Accel::none || (accel_ == Accel::automatic && cost <= static_cast<double>(bvh_crossover))) {
             shape.triangles = std::move(in_file_order);
         } else {
-            shape.bvh = build_bvh(std::move(inputs));
+            shape.bvh = build_bvh(std::move(inputs), triangle_bvh_costs);
             const LargeArray<BvhItem> items = std::move(shape.bvh.items);  // a leaf's triangles go to its places
             for (BvhNode& node : shape.bvh.nodes) {
                 for (int c = 0; c < 4; ++c) {
