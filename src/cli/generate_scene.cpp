@@ -2,6 +2,7 @@
 
 #include "cli/generate/families.h"
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 
@@ -54,20 +55,18 @@ const std::array<Family, 12> families = {{
      "exactly --size instances, the tree's triangles counted once"},
 }};
 
-// Each group's paragraph: its heading (empty for the first) and the width of its name column.
+// Each group's paragraph begins with its heading (none for the first).
 struct GroupHelp {
     FamilyGroup group;
     const char* heading;
-    std::size_t name_width;
 };
 
 constexpr GroupHelp group_help[] = {
-    {FamilyGroup::primitives, "", 8},
+    {FamilyGroup::primitives, ""},
     {FamilyGroup::mesh,
      "Counts include the floor plane; ties go to the smaller scene. Mesh families write one triangle mesh\n"
-     "on a floor, --size counting its triangles:\n",
-     13},
-    {FamilyGroup::instances, "Instanced families place one mesh shape many times on a floor:\n", 13},
+     "on a floor, --size counting its triangles:\n"},
+    {FamilyGroup::instances, "Instanced families place one mesh shape many times on a floor:\n"},
 };
 
 }  // namespace
@@ -86,14 +85,20 @@ const std::vector<std::string>& generated_family_names() {
 std::string generated_families_help() {
     std::string help;
     for (const GroupHelp& group : group_help) {
+        std::size_t name_width = 0;  // the group's descriptions start in one column
+        for (const Family& family : families) {
+            if (family.group == group.group) {
+                name_width = std::max(name_width, std::string_view(family.name).size());
+            }
+        }
+        const std::string indent(2 + name_width + 2, ' ');
         help += group.heading;
         for (const Family& family : families) {
             if (family.group != group.group) {
                 continue;
             }
-            const std::string indent(2 + group.name_width + 2, ' ');
             std::string name = family.name;
-            name.resize(group.name_width, ' ');
+            name.resize(name_width, ' ');
             help += "  " + name + "  ";
             for (const char* c = family.help; *c != '\0'; ++c) {
                 help += *c;
