@@ -49,32 +49,28 @@ std::array<double, 3> exactly(Vec3<T> v) {
 
 }  // namespace detail
 
-// A triangle that rounding its vertices to T makes degenerate is never hit: its three edge functions sum to
-// d·((b − a) × (c − a)) = 0 at every perturbed origin, so their signs never agree. Skipping it changes no
-// answer and spares the exact fallback its zero edge functions (in float, a mesh moved 1e7 from the origin
-// collapses onto the grid of 1: most of its triangles, every ray that reaches them, all three edges).
+// A triangle that rounding its vertices to T makes degenerate, or infinite, is never hit. Degenerate: its three edge
+// functions sum to d·((b − a) × (c − a)) = 0 at every perturbed origin, so their signs never agree. Skipping it
+// changes no answer and spares the exact fallback its zero edge functions (in float, a mesh moved 1e7 from the origin
+// collapses onto the grid of 1: most of its triangles, every ray that reaches them, all three edges). Infinite: a
+// vertex beyond float's range (3.4e38) has no place on the triangle's plane; in double every vertex the loader gives
+// is finite, and the predicates are exact for every finite input.
 template <typename T>
-bool degenerate_once_rounded(const MeshShape<T>& shape, std::uint32_t triangle) {
+bool lost_once_rounded(const MeshShape<T>& shape, std::uint32_t triangle) {
     if constexpr (std::is_same_v<T, double>) {
-        return false;  // the loader's exact test saw these very vertices
+        return false;  // the loader's exact test saw these very vertices, all finite
     } else {
         const std::array<std::uint32_t, 3>& corners = shape.triangles[triangle];
+        for (std::uint32_t corner : corners) {
+            const Vec3<T>& vertex = shape.vertices[corner];
+            if (!std::isfinite(vertex.x) || !std::isfinite(vertex.y) || !std::isfinite(vertex.z)) {
+                return true;
+            }
+        }
         return math::exactly_collinear(detail::exactly(shape.vertices[corners[0]]),
                                        detail::exactly(shape.vertices[corners[1]]),
                                        detail::exactly(shape.vertices[corners[2]]));
     }
-}
-
-// Past the predicates' exact range (math/exact_predicates.h, 2^339) a sign is noise: a triangle with a vertex out
-// there (in float, any vertex that rounds to infinity) is never hit, with the BVH or without.
-template <typename T>
-bool beyond_exact_range(const MeshShape<T>& shape, std::uint32_t triangle) {
-    for (std::uint32_t corner : shape.triangles[triangle]) {
-        if (!math::within_exact_range(detail::exactly(shape.vertices[corner]))) {
-            return true;
-        }
-    }
-    return false;
 }
 
 // An instance of a mesh shape (scene::Mesh::placement): the shape's triangles in its own space, built once and
@@ -119,7 +115,7 @@ MeshShape<T> make_shape(const scene::MeshData& data, int leaf, Accel accel) {
     }
     std::vector<scene::Bounds> bounds;
     scene::for_each_live_triangle(data, [&](std::uint32_t i) {
-        if (degenerate_once_rounded(shape, i) || beyond_exact_range(shape, i)) {
+        if (lost_once_rounded(shape, i)) {
             return;
         }
         shape.live.push_back(i);
@@ -140,8 +136,7 @@ MeshShape<T> make_shape(const scene::Mesh& mesh, Accel accel) {
 // Hit when the three perturbed edge signs agree (both sides: no back-face culling). Their sum is
 // d·((b − a) × (c − a)) exactly, so agreeing signs also decide the side exactly: all negative, the ray meets
 // the front. t = ((a − o)·n) / (d·n) with n = (b − a) × (c − a), in T; a denominator that rounds to 0 (a ray
-// within rounding of the triangle's plane) gives no finite t and is a miss. The ray's origin and the vertices are
-// within the predicates' exact range (for_each_crossing and make_shape see to it).
+// within rounding of the triangle's plane) gives no finite t and is a miss, and so does a t whose products overflow.
 template <typename T>
 std::optional<TriangleCrossing<T>> crossing_of(const MeshShape<T>& mesh, std::uint32_t triangle, const Ray<T>& ray) {
     const std::array<std::uint32_t, 3>& corners = mesh.triangles[triangle];
@@ -165,14 +160,8 @@ std::optional<TriangleCrossing<T>> crossing_of(const MeshShape<T>& mesh, std::ui
 
 // Calls visit(crossing) for every triangle the ray meets with t in (0, limit()], in no particular order;
 // limit() is read again at every BVH node.
-// A ray that starts beyond the predicates' exact range (a ray tree that has left every object by 1e102) meets no
-// triangle, with the BVH or without: else a ray from 1e240 "met" a triangle near the origin behind it, and only brute
-// force tested it.
 template <typename T, typename Limit, typename Visit>
 void for_each_crossing(const MeshShape<T>& mesh, const Ray<T>& ray, Limit&& limit, Visit&& visit) {
-    if (!math::within_exact_range(detail::exactly(ray.origin))) {
-        return;
-    }
     auto test = [&](std::uint32_t live_index) {
         if (std::optional<TriangleCrossing<T>> crossing = crossing_of(mesh, mesh.live[live_index], ray)) {
             if (crossing->t <= limit()) {

@@ -281,11 +281,22 @@ TEST(ExactPredicates, SignMatchesExactIntegerArithmeticOnNearDegenerateInputs) {
     EXPECT_GT(zeros, cases / 10) << zeros << " exact zeros of " << cases;
 }
 
-TEST(ExactPredicates, SignIsUnchangedByPowerOfTwoScalingIntoTheSubnormalRange) {
+TEST(ExactPredicates, SignIsUnchangedByPowerOfTwoScalingAcrossTheWholeExponentRange) {
     // (points' exponent, direction's exponent): at 2^-1060 the differences are subnormal, and the products of
-    // three underflow far below 2^-1074 unless the exact path scales them back up.
-    constexpr std::array<std::array<int, 2>, 8> scalings{
-        {{-1060, 0}, {0, -1060}, {-1000, -1000}, {-1060, -1060}, {-600, -300}, {250, 250}, {250, -1060}, {-1060, 250}}};
+    // three underflow far below 2^-1074 unless the exact path scales them back up. From 2^900 the points (up to 2^41
+    // before scaling) are past 2^339, where products of doubles overflow: long double's exponent holds them.
+    constexpr std::array<std::array<int, 2>, 12> scalings{{{-1060, 0},
+                                                           {0, -1060},
+                                                           {-1000, -1000},
+                                                           {-1060, -1060},
+                                                           {-600, -300},
+                                                           {250, 250},
+                                                           {250, -1060},
+                                                           {-1060, 250},
+                                                           {900, 0},
+                                                           {980, 990},
+                                                           {980, -1060},
+                                                           {-1060, 990}}};
     std::mt19937_64 rng(3);
     for (const std::array<int, 2>& scaling : scalings) {
         for (int n = 0; n < 20000; ++n) {
@@ -302,6 +313,43 @@ TEST(ExactPredicates, SignIsUnchangedByPowerOfTwoScalingIntoTheSubnormalRange) {
                 << describe(origin, direction, a, b);
         }
     }
+}
+
+// Coordinates spanning more than 2^600 (a vertex's x and y 2^-830 or less beside its z of 1): products of the small
+// ones fall below the subnormals even after the exact path scales the points up, so only a wider exponent keeps
+// them. The ray runs along z through the origin and the edge's end points lie at z = 1, so
+// E = s²·(i1·i4 − i2·i3), s the small coordinates' scale, and its sign is that of an integer; an exact zero is broken
+// by c = (a − b) × d = ((a − b)_y, −(a − b)_x, 0).
+TEST(ExactPredicates, SignIsExactForCoordinatesSpanningMoreThanTwoToThe600) {
+    std::mt19937_64 rng(6);
+    int decided_in_the_wider_exponent = 0, cases = 0;
+    for (int exponent : {-700, -830, -1000, -1040}) {
+        const double s = std::ldexp(1.0, exponent);
+        for (int n = 0; n < 5000; ++n) {
+            std::array<std::int64_t, 4> i;
+            for (std::int64_t& value : i) {
+                value = uniform_integer(rng, -(std::int64_t{1} << 26), std::int64_t{1} << 26);
+            }
+            if (n % 2 == 0) {
+                i[3] = i[1] * i[2] / (i[0] == 0 ? 1 : i[0]);  // near, or at, an exact zero
+            }
+            const Coordinates origin{0, 0, 0}, direction{0, 0, 1};
+            const Coordinates a{s * static_cast<double>(i[0]), s * static_cast<double>(i[1]), 1};
+            const Coordinates b{s * static_cast<double>(i[2]), s * static_cast<double>(i[3]), 1};
+            const Int128 exact = static_cast<Int128>(i[0]) * i[3] - static_cast<Int128>(i[1]) * i[2];
+            const int expected = (exact > 0) - (exact < 0);
+            const std::int64_t c_x = i[1] - i[3], c_y = i[2] - i[0];
+            const int perturbed = expected != 0 ? expected : c_x != 0 ? (c_x > 0) - (c_x < 0) : (c_y > 0) - (c_y < 0);
+            ASSERT_EQ(math::sign_of_ray_edge(origin, direction, a, b), expected)
+                << "2^" << exponent << ": " << describe(origin, direction, a, b)
+                << "; exact E/s² = " << static_cast<double>(exact);
+            ASSERT_EQ(math::sign_of_ray_edge_perturbed(origin, direction, a, b), perturbed)
+                << "2^" << exponent << ": " << describe(origin, direction, a, b);
+            decided_in_the_wider_exponent += expected != 0 && exponent <= -830;
+            ++cases;
+        }
+    }
+    EXPECT_GT(decided_in_the_wider_exponent, 1000) << "of " << cases;
 }
 
 TEST(ExactPredicates, ProductsThatUnderflowInTheFilterDoNotDecideTheSign) {

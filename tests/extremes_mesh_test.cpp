@@ -149,11 +149,12 @@ TEST_F(MeshExtremes, RaysExactlyInATrianglesPlaneAreNotCrossings) {
 
 }  // namespace
 
-// Past 2^339 the exact edge test's products overflow (math/exact_predicates.h). A reflection that left the scene
-// along a plane started a ray at 1e240, heading away from a small mesh near the origin, and brute force reported it
-// crossing a triangle 6e238 along it while the BVH culled the mesh (found by the BVH differential fuzz target,
-// its input now a seed). Such a ray, and a triangle out there, are misses in both walks.
-TEST(MeshBeyondTheExactRange, ARayFromBeyondTwoToThe339MeetsNoTriangleWithTheBvhOrWithout) {
+// A reflection that left the scene along a plane started a ray at 1e240, heading away from a small mesh near the
+// origin. When the exact edge test's products overflowed past 2^339, brute force reported it crossing a triangle
+// 6e238 along it while the BVH culled the mesh (found by the BVH differential fuzz target, its input now a seed). The
+// predicates are exact for every finite input now (long double beyond double's reach): the ray meets nothing, in both
+// walks.
+TEST(MeshAtTheEdgesOfDouble, ARayFromTenToThe240MeetsNoTriangleBehindItWithTheBvhOrWithout) {
     test::SceneBuilder builder;
     builder.add(test::mesh({{0, 4, 1}, {4, 3, -3}, {-3, 4, 2}, {4, -4, 0}, {2, 1, 3}},
                            {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}}));
@@ -169,10 +170,11 @@ TEST(MeshBeyondTheExactRange, ARayFromBeyondTwoToThe339MeetsNoTriangleWithTheBvh
     }
 }
 
-// A vertex beyond 2^339 (1e300, which float rounds to infinity) takes its triangle out of every walk: a ray straight
-// down through it, which would cross it in exact geometry, meets only the triangle beside it that lies in range, in the
-// oracle with the BVH and without, and in the exact SSE tracer, whose float vertex is infinite.
-TEST(MeshBeyondTheExactRange, ATriangleWithAVertexBeyondTwoToThe339IsNeverHitAndItsNeighbourStill) {
+// A vertex at 1e300 is a point like any other to the oracle, whose predicates are exact for every finite input: a ray
+// straight down through the triangle reaching out to it meets it at t = 5, with the BVH and without. Float rounds the
+// vertex to infinity, and the float tracers (the reference in float, the exact SSE tracer) leave the triangle out;
+// the triangle beside it, within float's range, all three meet.
+TEST(MeshAtTheEdgesOfDouble, ATriangleReachingBeyondFloatIsHitByTheOracleAndLeftOutByTheFloatTracers) {
     if (!twinray::sse::cpu_supports_sse41()) {
         GTEST_SKIP() << twinray::sse::missing_sse41_message();
     }
@@ -182,20 +184,25 @@ TEST(MeshBeyondTheExactRange, ATriangleWithAVertexBeyondTwoToThe339IsNeverHitAnd
     builder.scene().camera.eye = {0, 0, 5};
     builder.scene().camera.look_at = {0, 0, 0};
     const scene::Scene scene = builder.build();
-    const V down{0, 0, -1};
     for (twinray::Accel accel : {twinray::Accel::none, twinray::Accel::bvh}) {
+        const std::string walk = accel == twinray::Accel::bvh ? "with the BVH" : "without";
         twinray::reference::Tracer<double> oracle(scene, accel);
+        twinray::reference::Tracer<float> in_float(scene, accel);
         twinray::sse::Tracer tracer(scene, {}, accel);
-        EXPECT_FALSE(oracle.intersect({{0.25, 0.25, 5}, down}).has_value()) << "accel " << static_cast<int>(accel);
-        EXPECT_FALSE(tracer.intersect({{0.25f, 0.25f, 5}, {0, 0, -1}}).has_value())
-            << "accel " << static_cast<int>(accel);
-        std::optional<twinray::reference::Hit<double>> beside = oracle.intersect({{-0.25, 0.25, 5}, down});
-        ASSERT_TRUE(beside.has_value()) << "accel " << static_cast<int>(accel);
-        EXPECT_EQ(beside->triangle, 1);
-        EXPECT_EQ(beside->t, 5.0);
+        std::optional<twinray::reference::Hit<double>> far = oracle.intersect({{0.25, 0.25, 5}, {0, 0, -1}});
+        ASSERT_TRUE(far.has_value()) << walk;
+        EXPECT_EQ(far->triangle, 0) << walk;
+        EXPECT_EQ(far->t, 5.0) << walk;
+        EXPECT_FALSE(in_float.intersect({{0.25f, 0.25f, 5}, {0, 0, -1}}).has_value()) << walk;
+        EXPECT_FALSE(tracer.intersect({{0.25f, 0.25f, 5}, {0, 0, -1}}).has_value()) << walk;
+        std::optional<twinray::reference::Hit<double>> beside = oracle.intersect({{-0.25, 0.25, 5}, {0, 0, -1}});
+        std::optional<twinray::reference::Hit<float>> beside_in_float =
+            in_float.intersect({{-0.25f, 0.25f, 5}, {0, 0, -1}});
         std::optional<twinray::sse::Hit> sse_beside = tracer.intersect({{-0.25f, 0.25f, 5}, {0, 0, -1}});
-        ASSERT_TRUE(sse_beside.has_value()) << "accel " << static_cast<int>(accel);
-        EXPECT_EQ(sse_beside->triangle, 1);
-        EXPECT_EQ(sse_beside->t, 5.0f);
+        ASSERT_TRUE(beside.has_value() && beside_in_float.has_value() && sse_beside.has_value()) << walk;
+        EXPECT_EQ(beside->triangle, 1) << walk;
+        EXPECT_EQ(beside_in_float->triangle, 1) << walk;
+        EXPECT_EQ(sse_beside->triangle, 1) << walk;
+        EXPECT_EQ(sse_beside->t, 5.0f) << walk;
     }
 }

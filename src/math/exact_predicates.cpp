@@ -1,12 +1,15 @@
-// Filters in double, then expansions (Shewchuk 1997): a value held as a sum of doubles that do not overlap,
-// in increasing magnitude, zeros removed, so that sums and products are exact and the sign is that of the
-// largest (last) component. Two-Product is std::fma's error term (explicit, so -ffp-contract=off leaves it
+// Filters in double, then expansions (Shewchuk 1997): a value held as a sum of doubles (or long doubles) that do not
+// overlap, in increasing magnitude, zeros removed, so that sums and products are exact and the sign is that of the
+// largest (last) component. A filter never decides where its arithmetic overflowed: an infinite or NaN value or
+// bound fails its test, and the exact path takes over. Two-Product is std::fma's error term (explicit, so -ffp-contract=off leaves it
 // alone); -ffast-math, which the build never uses, would reassociate Two-Sum into nothing.
 #include "math/exact_predicates.h"
 
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <limits>
+#include <optional>
 
 namespace twinray::math {
 namespace {
@@ -15,56 +18,66 @@ constexpr double unit_roundoff = 0x1p-53;
 // Eight times the largest error of a product that underflows (half the smallest subnormal, 2^-1075).
 constexpr double underflow_slack = 0x1p-1072;
 
+// The expansions' arithmetic is written once for two types. In double it is exact while every product's error lies on
+// the double grid, which exact_range_shift sees to where the inputs allow it. In long double (x87's 64-bit significand
+// and 15-bit exponent, on every x86-64) it is exact for any finite doubles, unscaled: a product of three differences
+// of doubles is a multiple of 2^-3222 and below 2^3078, far within its range. It is the slower, so it is taken only
+// where double cannot be exact.
+
 // high + low, exactly, high the rounded value.
+template <typename Real>
 struct TwoTerms {
-    double high, low;
+    Real high, low;
 };
 
 // Knuth's Two-Sum: exact for any finite x and y.
-TwoTerms two_sum(double x, double y) {
-    double sum = x + y;
-    double y_part = sum - x;
-    double x_part = sum - y_part;
+template <typename Real>
+TwoTerms<Real> two_sum(Real x, Real y) {
+    Real sum = x + y;
+    Real y_part = sum - x;
+    Real x_part = sum - y_part;
     return {sum, (x - x_part) + (y - y_part)};
 }
 
-// Exact when the error lies on the double grid, which exact_range_shift sees to.
-TwoTerms two_product(double x, double y) {
-    double product = x * y;
+// Exact when the error lies on the grid of Real.
+template <typename Real>
+TwoTerms<Real> two_product(Real x, Real y) {
+    Real product = x * y;
     return {product, std::fma(x, y, -product)};
 }
 
-template <int Capacity>
+template <typename Real, int Capacity>
 struct Expansion {
     // Only the first `size` are set: zeroing the rest cost the exact path half its time.
-    std::array<double, Capacity> components;
+    std::array<Real, Capacity> components;
     int size = 0;
 
-    void append(double component) {
+    void append(Real component) {
         if (component != 0) {
             components[size++] = component;
         }
     }
 };
 
-template <int Capacity>
-int sign(const Expansion<Capacity>& e) {
+template <typename Real, int Capacity>
+int sign(const Expansion<Real, Capacity>& e) {
     if (e.size == 0) {
         return 0;
     }
     return e.components[e.size - 1] > 0 ? 1 : -1;
 }
 
-Expansion<2> difference(double x, double y) {
-    TwoTerms exact = two_sum(x, -y);
-    Expansion<2> e;
+template <typename Real>
+Expansion<Real, 2> difference(Real x, Real y) {
+    TwoTerms<Real> exact = two_sum(x, -y);
+    Expansion<Real, 2> e;
     e.append(exact.low);
     e.append(exact.high);
     return e;
 }
 
-template <int Capacity>
-void negate(Expansion<Capacity>& e) {
+template <typename Real, int Capacity>
+void negate(Expansion<Real, Capacity>& e) {
     for (int i = 0; i < e.size; ++i) {
         e.components[i] = -e.components[i];
     }
@@ -72,9 +85,9 @@ void negate(Expansion<Capacity>& e) {
 
 // Fast-Expansion-Sum with zero elimination: both inputs' components merged by magnitude and accumulated from
 // the smallest by Two-Sum (Shewchuk's Theorem 13: exact, the result again strongly non-overlapping).
-template <int M, int N>
-Expansion<M + N> sum(const Expansion<M>& e, const Expansion<N>& f) {
-    Expansion<M + N> h;
+template <typename Real, int M, int N>
+Expansion<Real, M + N> sum(const Expansion<Real, M>& e, const Expansion<Real, N>& f) {
+    Expansion<Real, M + N> h;
     if (e.size + f.size == 0) {
         return h;
     }
@@ -83,9 +96,9 @@ Expansion<M + N> sum(const Expansion<M>& e, const Expansion<N>& f) {
         bool from_e = j == f.size || (i < e.size && std::fabs(e.components[i]) < std::fabs(f.components[j]));
         return from_e ? e.components[i++] : f.components[j++];
     };
-    double running = next_smallest();
+    Real running = next_smallest();
     while (i + j < e.size + f.size) {
-        TwoTerms step = two_sum(running, next_smallest());
+        TwoTerms<Real> step = two_sum(running, next_smallest());
         h.append(step.low);
         running = step.high;
     }
@@ -94,20 +107,20 @@ Expansion<M + N> sum(const Expansion<M>& e, const Expansion<N>& f) {
 }
 
 // Scale-Expansion with zero elimination (Shewchuk's Theorem 19): e·factor exactly.
-template <int N>
-Expansion<2 * N> scaled(const Expansion<N>& e, double factor) {
-    Expansion<2 * N> h;
+template <typename Real, int N>
+Expansion<Real, 2 * N> scaled(const Expansion<Real, N>& e, Real factor) {
+    Expansion<Real, 2 * N> h;
     if (e.size == 0) {
         return h;
     }
-    TwoTerms first = two_product(e.components[0], factor);
+    TwoTerms<Real> first = two_product(e.components[0], factor);
     h.append(first.low);
-    double carry = first.high;
+    Real carry = first.high;
     for (int i = 1; i < e.size; ++i) {
-        TwoTerms product = two_product(e.components[i], factor);
-        TwoTerms low = two_sum(carry, product.low);
+        TwoTerms<Real> product = two_product(e.components[i], factor);
+        TwoTerms<Real> low = two_sum(carry, product.low);
         h.append(low.low);
-        TwoTerms high = two_sum(product.high, low.high);
+        TwoTerms<Real> high = two_sum(product.high, low.high);
         h.append(high.low);
         carry = high.high;
     }
@@ -116,21 +129,25 @@ Expansion<2 * N> scaled(const Expansion<N>& e, double factor) {
 }
 
 // x·y for two exact differences.
-Expansion<8> product(const Expansion<2>& x, const Expansion<2>& y) {
-    Expansion<4> none;
+template <typename Real>
+Expansion<Real, 8> product(const Expansion<Real, 2>& x, const Expansion<Real, 2>& y) {
+    Expansion<Real, 4> none;
     return sum(y.size > 0 ? scaled(x, y.components[0]) : none, y.size > 1 ? scaled(x, y.components[1]) : none);
 }
 
-using Differences = std::array<Expansion<2>, 3>;
+template <typename Real>
+using Differences = std::array<Expansion<Real, 2>, 3>;
 
-Differences differences(const Coordinates& p, const Coordinates& q) {
-    return {difference(p[0], q[0]), difference(p[1], q[1]), difference(p[2], q[2])};
+template <typename Real>
+Differences<Real> differences(const Coordinates& p, const Coordinates& q) {
+    return {difference<Real>(p[0], q[0]), difference<Real>(p[1], q[1]), difference<Real>(p[2], q[2])};
 }
 
 // (x × y)[axis], exactly.
-Expansion<16> cross_component(const Differences& x, const Differences& y, int axis) {
+template <typename Real>
+Expansion<Real, 16> cross_component(const Differences<Real>& x, const Differences<Real>& y, int axis) {
     int j = (axis + 1) % 3, k = (axis + 2) % 3;
-    Expansion<8> subtracted = product(x[k], y[j]);
+    Expansion<Real, 8> subtracted = product(x[k], y[j]);
     negate(subtracted);
     return sum(product(x[j], y[k]), subtracted);
 }
@@ -141,32 +158,55 @@ Expansion<16> cross_component(const Differences& x, const Differences& y, int ax
 // largest magnitude is at least 2^300, never down (that could round). A non-zero coordinate at most 2^600
 // below it is then at least 2^-300, a multiple of 2^-352, and so is every difference: a product of three is
 // a multiple of 2^-1056, on the grid. Below 2^339 (2^301 if scaled) a sum of six such products stays below
-// 2^1022: no overflow.
+// 2^1022: no overflow. A group that spans more, or reaches higher, is left to long double.
 constexpr int exact_range_exponent = 300;
+constexpr int double_exact_span_exponent = 600;
+constexpr double double_exact_coordinate_limit = 0x1p339;
 
-int exact_range_shift(std::initializer_list<Coordinates> group) {
-    double largest = 0;
+// The shift that brings the group's largest magnitude to at least 2^300, or nothing where double cannot be exact
+// for it (its non-zero magnitudes span more than 2^600, or one is at least 2^339).
+std::optional<int> exact_range_shift(std::initializer_list<Coordinates> group) {
+    double largest = 0, least = std::numeric_limits<double>::infinity();
     for (const Coordinates& point : group) {
         for (double coordinate : point) {
-            largest = std::max(largest, std::fabs(coordinate));
+            const double magnitude = std::fabs(coordinate);
+            largest = std::max(largest, magnitude);
+            least = magnitude > 0 ? std::min(least, magnitude) : least;
         }
     }
-    return largest == 0 ? 0 : std::max(0, exact_range_exponent - std::ilogb(largest));
+    if (largest == 0) {
+        return 0;
+    }
+    if (largest >= double_exact_coordinate_limit ||
+        std::ilogb(largest) - std::ilogb(least) > double_exact_span_exponent) {
+        return std::nullopt;
+    }
+    return std::max(0, exact_range_exponent - std::ilogb(largest));
 }
 
 Coordinates shifted(const Coordinates& v, int shift) {
     return {std::ldexp(v[0], shift), std::ldexp(v[1], shift), std::ldexp(v[2], shift)};
 }
 
+// E exactly, in Real, from inputs on which Real's expansions are exact.
+template <typename Real>
+int exact_sign_of_ray_edge_in(const Coordinates& origin, const Coordinates& direction, const Coordinates& a,
+                              const Coordinates& b) {
+    Differences<Real> to_a = differences<Real>(a, origin);
+    Differences<Real> to_b = differences<Real>(b, origin);
+    auto term = [&](int axis) { return scaled(cross_component(to_a, to_b, axis), static_cast<Real>(direction[axis])); };
+    return sign(sum(sum(term(0), term(1)), term(2)));
+}
+
 int exact_sign_of_ray_edge(const Coordinates& origin, const Coordinates& direction, const Coordinates& a,
                            const Coordinates& b) {
-    int point_shift = exact_range_shift({origin, a, b});
-    Coordinates o = shifted(origin, point_shift);
-    Coordinates d = shifted(direction, exact_range_shift({direction}));
-    Differences to_a = differences(shifted(a, point_shift), o);
-    Differences to_b = differences(shifted(b, point_shift), o);
-    auto term = [&](int axis) { return scaled(cross_component(to_a, to_b, axis), d[axis]); };
-    return sign(sum(sum(term(0), term(1)), term(2)));
+    std::optional<int> point_shift = exact_range_shift({origin, a, b});
+    std::optional<int> direction_shift = exact_range_shift({direction});
+    if (!point_shift || !direction_shift) {
+        return exact_sign_of_ray_edge_in<long double>(origin, direction, a, b);
+    }
+    return exact_sign_of_ray_edge_in<double>(shifted(origin, *point_shift), shifted(direction, *direction_shift),
+                                             shifted(a, *point_shift), shifted(b, *point_shift));
 }
 
 // The sign of ((p − q) × (r − s))[axis]. Filter: in double, each of the value's two monomials passes
@@ -184,10 +224,13 @@ int sign_of_cross_component(const Coordinates& p, const Coordinates& q, const Co
     if (std::fabs(value) > bound) {
         return value > 0 ? 1 : -1;
     }
-    int pair_shift = exact_range_shift({p, q}), other_pair_shift = exact_range_shift({r, s});
-    Differences x = differences(shifted(p, pair_shift), shifted(q, pair_shift));
-    Differences y = differences(shifted(r, other_pair_shift), shifted(s, other_pair_shift));
-    return sign(cross_component(x, y, axis));
+    std::optional<int> pair_shift = exact_range_shift({p, q}), other_pair_shift = exact_range_shift({r, s});
+    if (!pair_shift || !other_pair_shift) {
+        return sign(cross_component(differences<long double>(p, q), differences<long double>(r, s), axis));
+    }
+    return sign(cross_component(differences<double>(shifted(p, *pair_shift), shifted(q, *pair_shift)),
+                                differences<double>(shifted(r, *other_pair_shift), shifted(s, *other_pair_shift)),
+                                axis));
 }
 
 int largest_axis(const Coordinates& v) {

@@ -4,10 +4,10 @@
 // call; a value within the filter's rounding bound of zero is recomputed in exact expansion arithmetic
 // (Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast Robust Geometric Predicates", 1997).
 //
-// Exact for every finite input whose coordinates are below 2^339 in magnitude (nothing overflows) and whose
-// non-zero magnitudes span at most 2^600 among the points and among the direction's components (every
-// product's rounding error stays on the double grid, tiny inputs included: exact_predicates.cpp scales them
-// up first). Coordinates converted from float always qualify. Round-to-nearest, the default, is assumed.
+// Exact for every finite input, round-to-nearest (the default) assumed: the exact arithmetic runs in double where its
+// products stay on the double grid and below overflow (inputs below 2^339 whose non-zero magnitudes span at most
+// 2^600, scaled up first: exact_predicates.cpp), and in long double, whose exponent holds any product of three
+// differences of doubles, elsewhere.
 #pragma once
 
 #include <array>
@@ -16,15 +16,6 @@
 namespace twinray::math {
 
 using Coordinates = std::array<double, 3>;
-
-// The magnitude every coordinate must stay below for the predicates to be exact (above: beyond it their
-// products overflow, and a sign is noise).
-constexpr double exact_coordinate_limit = 0x1p339;
-
-inline bool within_exact_range(const Coordinates& point) {
-    return std::fabs(point[0]) < exact_coordinate_limit && std::fabs(point[1]) < exact_coordinate_limit &&
-           std::fabs(point[2]) < exact_coordinate_limit;
-}
 
 // The sign (+1, −1 or 0) of E = direction · ((a − origin) × (b − origin)): the side of the edge a→b the
 // ray's line passes, seen along the direction (t ≥ 0 is not asked). For a triangle's three edges taken in
