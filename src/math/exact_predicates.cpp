@@ -1,8 +1,8 @@
 // Filters in double, then expansions (Shewchuk 1997): a value held as a sum of doubles (or long doubles) that do not
 // overlap, in increasing magnitude, zeros removed, so that sums and products are exact and the sign is that of the
 // largest (last) component. A filter never decides where its arithmetic overflowed: an infinite or NaN value or
-// bound fails its test, and the exact path takes over. Two-Product is std::fma's error term (explicit, so -ffp-contract=off leaves it
-// alone); -ffast-math, which the build never uses, would reassociate Two-Sum into nothing.
+// bound fails its test, and the exact path takes over. Two-Product is std::fma's error term (explicit, so
+// -ffp-contract=off leaves it alone); -ffast-math, which the build never uses, would reassociate Two-Sum into nothing.
 #include "math/exact_predicates.h"
 
 #include <algorithm>
