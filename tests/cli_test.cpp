@@ -1,6 +1,7 @@
 // The twinray command line as a user meets it: exit statuses, messages, and what is (not) written.
 #include "gltf_files.h"
 #include "run_twinray.h"
+#include "sanitized_build.h"
 #include "test_output.h"
 
 #include <gtest/gtest.h>
@@ -448,6 +449,11 @@ TEST_F(CliTest, BenchScalingMeasuresTheMemoryFloor) {
         }
     }
     ASSERT_TRUE(loads.count("L1") && loads.count("DR")) << "rows: " << loads.size() << "\n" << result.output;
+#ifdef TWINRAY_SANITIZED_BUILD
+    // Each load of the chase is instrumented (a shadow check, the chain's position in ASan's fake stack): an ASan run
+    // once measured 4 500 ns a DRAM load, alone and in flight alike.
+    GTEST_SKIP() << "the floor's rows are written; their figures measure the sanitizer, not the memory";
+#endif
     const auto [l1, l1_overlapped] = loads["L1"];
     const auto [dram, dram_overlapped] = loads["DR"];
     EXPECT_GT(dram, 10 * l1) << "ns per load: DRAM " << dram << ", L1 " << l1;
