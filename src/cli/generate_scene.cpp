@@ -9,47 +9,45 @@
 namespace twinray::cli {
 namespace {
 
-// Which paragraph of the help lists a family.
+// Which paragraph of the help lists a family; every family but those of primitives writes a mesh.
 enum class FamilyGroup { primitives, mesh, instances };
 
 struct Family {
     const char* name;
     GeneratedScene (*write)(int size, std::uint64_t seed, const SceneSink& sink);
-    bool writes_mesh;
     FamilyGroup group;
     const char* help;  // what `generate --help` says of it, lines after the first indented by the help itself
 };
 
 const std::array<Family, 12> families = {{
-    {"fractal", generate::write_fractal, false, FamilyGroup::primitives,
+    {"fractal", generate::write_fractal, FamilyGroup::primitives,
      "a sphereflake (9 reflective spheres around each sphere, recursively) on a floor; the depth\n"
      "whose count, 1 + (9^(depth+1) - 1)/8, is nearest --size"},
-    {"field", generate::write_field, false, FamilyGroup::primitives,
+    {"field", generate::write_field, FamilyGroup::primitives,
      "spheres, boxes and cylinders of random sizes and materials on a floor; exactly --size"},
-    {"lattice", generate::write_lattice, false, FamilyGroup::primitives,
+    {"lattice", generate::write_lattice, FamilyGroup::primitives,
      "a 3-D lattice of cylinders joined by spheres, a x b x c nodes with sides differing by at\n"
      "most one; the count nearest --size"},
-    {"csg", generate::write_csg, false, FamilyGroup::primitives,
+    {"csg", generate::write_csg, FamilyGroup::primitives,
      "an array of CSG objects (differences, intersections, unions) on a floor; exactly --size\n"
      "(3 for a size of 2)"},
-    {"sphere-mesh", generate::write_sphere_mesh, true, FamilyGroup::mesh,
+    {"sphere-mesh", generate::write_sphere_mesh, FamilyGroup::mesh,
      "a UV sphere, b bands and 2b slices, closed, smooth; the 4b(b - 1) nearest --size"},
-    {"torus-mesh", generate::write_torus_mesh, true, FamilyGroup::mesh,
+    {"torus-mesh", generate::write_torus_mesh, FamilyGroup::mesh,
      "a tilted torus, 3n x n segments, closed, smooth; the 6n^2 nearest --size"},
-    {"tetra", generate::write_tetra, true, FamilyGroup::mesh,
+    {"tetra", generate::write_tetra, FamilyGroup::mesh,
      "the Sierpinski tetrahedron of depth d (SPD \"tetra\"), 4^d closed tetrahedra; the\n"
      "largest 4 x 4^d not above --size (4 below that)"},
-    {"sombrero", generate::write_sombrero, true, FamilyGroup::mesh,
+    {"sombrero", generate::write_sombrero, FamilyGroup::mesh,
      "the height field sin(r)/r over n x n quads, open, smooth; the 2n^2 nearest --size"},
-    {"triangle-soup", generate::write_triangle_soup, true, FamilyGroup::mesh,
-     "random triangles in a cube; exactly --size"},
-    {"mount", generate::write_mount, true, FamilyGroup::mesh,
+    {"triangle-soup", generate::write_triangle_soup, FamilyGroup::mesh, "random triangles in a cube; exactly --size"},
+    {"mount", generate::write_mount, FamilyGroup::mesh,
      "a fractal mountain (SPD \"mount\"): a square of two triangles subdivided d times by\n"
      "midpoint displacement, open, flat, and four glass spheres; the 2 x 4^d nearest --size"},
-    {"gears", generate::write_gears, true, FamilyGroup::mesh,
+    {"gears", generate::write_gears, FamilyGroup::mesh,
      "a g x g grid of meshing 24-tooth gears (SPD \"gears\"), closed prisms whose concave\n"
      "faces are ear-clipped, flat; the 380g^2 nearest --size"},
-    {"forest", generate::write_forest, true, FamilyGroup::instances,
+    {"forest", generate::write_forest, FamilyGroup::instances,
      "one tree (a trunk and three cones, 1 008 triangles) declared once as a mesh shape, and\n"
      "instances of it on a jittered square grid, each turned, scaled and coloured at random;\n"
      "exactly --size instances, the tree's triangles counted once"},
@@ -116,7 +114,7 @@ std::string generated_families_help() {
 bool is_mesh_family(std::string_view family) {
     for (const Family& candidate : families) {
         if (family == candidate.name) {
-            return candidate.writes_mesh;
+            return candidate.group != FamilyGroup::primitives;
         }
     }
     return false;
