@@ -62,8 +62,7 @@ bool lost_once_rounded(const MeshShape<T>& shape, std::uint32_t triangle) {
     } else {
         const std::array<std::uint32_t, 3>& corners = shape.triangles[triangle];
         for (std::uint32_t corner : corners) {
-            const Vec3<T>& vertex = shape.vertices[corner];
-            if (!std::isfinite(vertex.x) || !std::isfinite(vertex.y) || !std::isfinite(vertex.z)) {
+            if (!math::is_finite(shape.vertices[corner])) {
                 return true;
             }
         }

@@ -21,16 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// "fractal, field, ... or forest".
-std::string family_list() {
-    const std::vector<std::string>& names = generated_family_names();
-    std::string list;
-    for (std::size_t i = 0; i < names.size(); ++i) {
-        list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
-    }
-    return list;
-}
-
 struct GenerateArguments {
     std::string family;
     int size = default_generated_primitives;
@@ -120,7 +110,7 @@ void add_generate_command(CLI::App& app, std::function<int()>& run) {
         "generate",
         "Write a large generated scene (twinray-scene/1), the same bytes for the same family, size and seed:\n" +
             generated_families_help());
-    command->add_option("family", arguments->family, family_list())
+    command->add_option("family", arguments->family, generated_family_list())
         ->required()
         ->check(CLI::IsMember(generated_family_names()));
     command

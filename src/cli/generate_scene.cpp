@@ -80,6 +80,15 @@ const std::vector<std::string>& generated_family_names() {
     return names;
 }
 
+std::string generated_family_list() {
+    const std::vector<std::string>& names = generated_family_names();
+    std::string list;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    }
+    return list;
+}
+
 std::string generated_families_help() {
     std::string help;
     for (const GroupHelp& group : group_help) {
@@ -130,11 +139,7 @@ GeneratedScene generate_scene(std::string_view family, int size, std::uint64_t s
             return candidate.write(size, seed, sink);
         }
     }
-    std::string allowed;
-    for (const Family& candidate : families) {
-        allowed += std::string(allowed.empty() ? "" : ", ") + candidate.name;
-    }
-    throw std::invalid_argument("unknown family \"" + std::string(family) + "\"; allowed: " + allowed);
+    throw std::invalid_argument("unknown family \"" + std::string(family) + "\"; allowed: " + generated_family_list());
 }
 
 }  // namespace twinray::cli

@@ -24,6 +24,8 @@ constexpr int default_generated_primitives = 1000;
 // fractal, field, lattice, csg, sphere-mesh, torus-mesh, tetra, sombrero, triangle-soup, mount, gears, forest: the
 // order in which help and messages list them.
 const std::vector<std::string>& generated_family_names();
+// The names as a sentence lists them: "fractal, field, ... gears or forest".
+std::string generated_family_list();
 
 // What `generate --help` says of each family, grouped as the families are (of primitives, of one mesh, instanced), in
 // the order of generated_family_names().

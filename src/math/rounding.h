@@ -56,9 +56,7 @@ struct SurfaceBounds {
 // anything else (NaN, infinity, a zero or unnormalised direction) has no defined hit and is a miss.
 template <typename T>
 bool is_traceable(const Vec3<T>& origin, const Vec3<T>& direction) {
-    bool finite = std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z) &&
-                  std::isfinite(direction.x) && std::isfinite(direction.y) && std::isfinite(direction.z);
-    return finite && std::fabs(dot(direction, direction) - T(1)) <= T(1e-3);
+    return is_finite(origin) && is_finite(direction) && std::fabs(dot(direction, direction) - T(1)) <= T(1e-3);
 }
 
 }  // namespace twinray::math

@@ -68,6 +68,11 @@ Vec3<T> normalize_by_reciprocal(Vec3<T> a) {
 }
 
 template <typename T>
+bool is_finite(const Vec3<T>& a) {
+    return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
+
+template <typename T>
 T max_abs_component(Vec3<T> a) {
     return std::fmax(std::fabs(a.x), std::fmax(std::fabs(a.y), std::fabs(a.z)));
 }

@@ -84,10 +84,6 @@ std::string seconds(std::chrono::milliseconds duration) {
     throw std::runtime_error(what);
 }
 
-bool is_finite(const Vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
 // One of the reader's meshes checked again; its degenerate triangles listed.
 void check_mesh(MeshData& mesh, std::size_t index) {
     const std::string which = "mesh " + std::to_string(index) + " ";
@@ -101,8 +97,9 @@ void check_mesh(MeshData& mesh, std::size_t index) {
     if (mesh.smooth != !mesh.normals.empty()) {
         wrong("smooth without normals, or normals without smooth");
     }
-    if (!std::all_of(mesh.vertices.begin(), mesh.vertices.end(), is_finite) ||
-        !std::all_of(mesh.normals.begin(), mesh.normals.end(), is_finite)) {
+    auto finite = [](const Vec3& v) { return is_finite(v); };
+    if (!std::all_of(mesh.vertices.begin(), mesh.vertices.end(), finite) ||
+        !std::all_of(mesh.normals.begin(), mesh.normals.end(), finite)) {
         wrong("a value that is not finite");
     }
     // The loader makes normals unit length: a zero one would become NaN.

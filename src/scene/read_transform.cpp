@@ -106,16 +106,16 @@ Transform read_step(const Node& step) {
 
 bool is_finite(const Transform& m) {
     for (const Vec3& row : m.linear.row) {
-        if (!scene::is_finite(row)) {
+        if (!math::is_finite(row)) {
             return false;
         }
     }
     for (const Vec3& row : m.inverse.row) {
-        if (!scene::is_finite(row)) {
+        if (!math::is_finite(row)) {
             return false;
         }
     }
-    return scene::is_finite(m.translation);
+    return math::is_finite(m.translation);
 }
 
 }  // namespace

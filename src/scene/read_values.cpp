@@ -204,10 +204,6 @@ bool is_zero(const Vec3& v) {
     return v[0] == 0 && v[1] == 0 && v[2] == 0;
 }
 
-bool is_finite(const Vec3& v) {
-    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
-
 // Dividing by the largest component first keeps the squared length from overflowing (1e200) or
 // underflowing (1e-200).
 Vec3 normalized(const Vec3& v) {

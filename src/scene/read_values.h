@@ -106,7 +106,6 @@ void require_distinct(const Node& second, const Vec3& second_point, std::string_
 // Vector arithmetic needed by the geometric rules.
 Vec3 minus(const Vec3& a, const Vec3& b);
 bool is_zero(const Vec3& v);
-bool is_finite(const Vec3& v);
 // For a finite non-zero v.
 Vec3 normalized(const Vec3& v);
 double sine_of_angle(const Vec3& a, const Vec3& b);

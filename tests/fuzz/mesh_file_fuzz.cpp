@@ -71,14 +71,10 @@ const char* extension_for(std::string_view bytes) {
     return ".obj";
 }
 
-bool finite(const Vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
 void check_accepted(const MeshData& mesh) {
     expect(!mesh.triangles.empty(), "an accepted mesh has a triangle");
     for (const Vec3& vertex : mesh.vertices) {
-        expect(finite(vertex), "vertices are finite");
+        expect(is_finite(vertex), "vertices are finite");
     }
     for (const auto& triangle : mesh.triangles) {
         for (const std::uint32_t index : triangle) {
@@ -88,7 +84,7 @@ void check_accepted(const MeshData& mesh) {
     expect(mesh.normals.empty() || mesh.normals.size() == mesh.vertices.size(), "one normal per vertex, or none");
     expect(mesh.smooth == !mesh.normals.empty(), "a mesh is smooth exactly when it has normals");
     for (const Vec3& normal : mesh.normals) {
-        expect(finite(normal) && (normal.x != 0 || normal.y != 0 || normal.z != 0), "normals are finite, non-zero");
+        expect(is_finite(normal) && (normal.x != 0 || normal.y != 0 || normal.z != 0), "normals are finite, non-zero");
     }
 }
 
@@ -107,8 +103,8 @@ void check_accepted(const std::vector<MeshData>& meshes, const std::vector<MeshN
     std::vector<bool> placed(meshes.size(), false);
     for (const MeshNode& node : nodes) {
         expect(node.mesh < meshes.size(), "a node places a mesh sent");
-        expect(finite(node.translation) && finite(node.linear.row[0]) && finite(node.linear.row[1]) &&
-                   finite(node.linear.row[2]),
+        expect(is_finite(node.translation) && is_finite(node.linear.row[0]) && is_finite(node.linear.row[1]) &&
+                   is_finite(node.linear.row[2]),
                "node matrices are finite");
         placed[node.mesh] = true;
     }

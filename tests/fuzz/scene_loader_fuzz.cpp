@@ -26,9 +26,6 @@ void expect(bool holds, const char* what) {
     twinray::fuzz::expect(holds, "scene_loader_fuzz", what);
 }
 
-bool finite(const Vec3& v) {
-    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
 bool non_negative(const Vec3& v) {
     return v[0] >= 0 && v[1] >= 0 && v[2] >= 0;
 }
@@ -49,18 +46,18 @@ int check_object(const Scene& scene, const Object& object, int depth, int& next_
     expect(object.material >= 0 && static_cast<std::size_t>(object.material) < scene.materials.size(),
            "a leaf's material index is in range");
     if (const auto* plane = std::get_if<Plane>(&object.shape)) {
-        expect(finite(plane->normal) && std::isfinite(plane->offset), "plane is finite");
+        expect(is_finite(plane->normal) && std::isfinite(plane->offset), "plane is finite");
         double length = std::sqrt(plane->normal[0] * plane->normal[0] + plane->normal[1] * plane->normal[1] +
                                   plane->normal[2] * plane->normal[2]);
         expect(std::abs(length - 1.0) < 1e-12, "plane normal has unit length");
     } else if (const auto* sphere = std::get_if<Sphere>(&object.shape)) {
-        expect(finite(sphere->center) && std::isfinite(sphere->radius) && sphere->radius > 0, "sphere radius > 0");
+        expect(is_finite(sphere->center) && std::isfinite(sphere->radius) && sphere->radius > 0, "sphere radius > 0");
     } else if (const auto* cylinder = std::get_if<Cylinder>(&object.shape)) {
-        expect(finite(cylinder->base) && finite(cylinder->cap) && cylinder->base != cylinder->cap,
+        expect(is_finite(cylinder->base) && is_finite(cylinder->cap) && cylinder->base != cylinder->cap,
                "cylinder base differs from cap");
         expect(std::isfinite(cylinder->radius) && cylinder->radius > 0, "cylinder radius > 0");
     } else if (const auto* box = std::get_if<Box>(&object.shape)) {
-        expect(finite(box->min) && finite(box->max), "box is finite");
+        expect(is_finite(box->min) && is_finite(box->max), "box is finite");
         for (int axis = 0; axis < 3; ++axis) {
             expect(box->min[axis] < box->max[axis], "box min < max on every axis");
         }
@@ -76,7 +73,7 @@ void check_mesh(const Scene& scene, const Mesh& mesh) {
     const MeshData& data = *mesh.data;
     expect(!data.triangles.empty(), "a mesh has a triangle");
     for (const Vec3& vertex : data.vertices) {
-        expect(finite(vertex), "mesh vertices are finite");
+        expect(is_finite(vertex), "mesh vertices are finite");
     }
     for (const auto& triangle : data.triangles) {
         for (std::uint32_t index : triangle) {
@@ -86,7 +83,7 @@ void check_mesh(const Scene& scene, const Mesh& mesh) {
     expect(!data.smooth || data.normals.size() == data.vertices.size(), "a smooth mesh has a normal per vertex");
     for (const Vec3& normal : data.normals) {
         double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
-        expect(finite(normal) && (length == 0 || std::abs(length - 1.0) < 1e-12), "mesh normals are unit or zero");
+        expect(is_finite(normal) && (length == 0 || std::abs(length - 1.0) < 1e-12), "mesh normals are unit or zero");
     }
     for (std::size_t i = 0; i < data.degenerate.size(); ++i) {
         expect(data.degenerate[i] < data.triangles.size(), "degenerate triangles are in range");
@@ -100,15 +97,15 @@ void check_accepted(const Scene& scene) {
     expect(scene.max_depth >= 1 && scene.max_depth <= max_trace_depth, "max_depth in range");
     expect(!scene.min_weight || (std::isfinite(*scene.min_weight) && *scene.min_weight >= 0), "min_weight >= 0");
     const Camera& camera = scene.camera;
-    expect(finite(camera.eye) && finite(camera.look_at) && finite(camera.up), "camera is finite");
+    expect(is_finite(camera.eye) && is_finite(camera.look_at) && is_finite(camera.up), "camera is finite");
     expect(camera.eye != camera.look_at, "camera eye differs from look_at");
     expect(camera.fov_deg > 0 && camera.fov_deg < 180, "0 < fov_deg < 180");
-    expect(finite(scene.background) && non_negative(scene.background), "background is a colour");
-    expect(finite(scene.ambient_light) && non_negative(scene.ambient_light), "ambient_light is a colour");
+    expect(is_finite(scene.background) && non_negative(scene.background), "background is a colour");
+    expect(is_finite(scene.ambient_light) && non_negative(scene.ambient_light), "ambient_light is a colour");
     expect(!scene.materials.empty() && scene.materials.size() == scene.material_names.size(),
            "one name per material, the default first");
     for (const Material& m : scene.materials) {
-        expect(finite(m.color) && non_negative(m.color), "material colour is a colour");
+        expect(is_finite(m.color) && non_negative(m.color), "material colour is a colour");
         for (double coefficient : {m.ambient, m.diffuse, m.phong, m.reflection, m.transmission}) {
             expect(std::isfinite(coefficient) && coefficient >= 0, "material coefficients are >= 0");
         }
@@ -116,7 +113,7 @@ void check_accepted(const Scene& scene) {
         expect(std::isfinite(m.ior) && m.ior > 0, "ior > 0");
     }
     for (const Light& light : scene.lights) {
-        expect(finite(light.position) && finite(light.color) && non_negative(light.color), "light is finite");
+        expect(is_finite(light.position) && is_finite(light.color) && non_negative(light.color), "light is finite");
     }
     // Meshes take leaf numbers among the objects': counted here by the numbers they take.
     std::vector<bool> mesh_leaf(scene.leaf_paths.size(), false);

@@ -65,10 +65,6 @@ MeshNode local_transform(const aiNode& node) {
     return local;
 }
 
-bool is_finite(const Vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
 // `inner` placed by `outer`: p ↦ L_o·(L_i·p + t_i) + t_o, in double.
 MeshNode composed(const MeshNode& outer, const MeshNode& inner) {
     MeshNode out;
