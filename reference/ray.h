@@ -33,6 +33,7 @@ struct Hit {
     // What shading uses (N·L, Phong, reflected and refracted directions): `normal` itself, or on a smooth
     // mesh the interpolated normal turned to its side. `normal` still decides sides and spawn offsets.
     Vec3<T> shading_normal;
+    int part = -1;  // on an instance of a solid shape, the shape's primitive hit (scene::SolidShape's parts)
 };
 
 // The unit vector along `radial`, the normal of a curved surface at a hit. A primitive smaller than the
@@ -70,6 +71,7 @@ struct Crossing {
     T t{};
     Vec3<T> outward_normal;  // of the solid this crossing bounds, unit length
     int leaf = -1;
+    int part = -1;  // on an instance of a solid shape, the shape's primitive (`leaf` is then the instance's)
 };
 
 // The closed interval of the ray's line inside a solid, enter.t <= exit.t.
@@ -86,7 +88,7 @@ using SpanList = std::vector<Span<T>>;
 
 template <typename T>
 Crossing<T> infinitely_far(T sign) {
-    return {sign * std::numeric_limits<T>::infinity(), {}, -1};
+    return {sign * std::numeric_limits<T>::infinity(), {}, -1, -1};
 }
 
 }  // namespace twinray::reference

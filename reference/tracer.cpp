@@ -19,6 +19,7 @@ Shape<T> compile(const scene::Object& object) {
             if constexpr (scene::is_primitive<std::decay_t<decltype(shape)>>) {
                 return make_shape<T>(shape, object.leaf);
             } else {
+                static_assert(std::is_same_v<std::decay_t<decltype(shape)>, scene::Csg>);
                 CsgNode<T> node{shape.op, {}};
                 for (const scene::Object& child : shape.children) {
                     node.children.push_back(compile<T>(child));
@@ -44,6 +45,21 @@ std::size_t primitives_in(const scene::Object& object) {
 
 template <typename T>
 SpanList<T> spans_of(const Shape<T>& shape, const Ray<T>& ray) {
+    if (const auto* solid = std::get_if<PlacedSolid<T>>(&shape)) {
+        const math::Transform<T>& m = solid->instance.to_world;
+        T stretch;
+        SpanList<T> spans = spans_of(solid->shape->tree, unit_object_ray(m, ray, stretch));
+        for (Span<T>& span : spans) {
+            for (Crossing<T>* crossing : {&span.enter, &span.exit}) {
+                carry_back(m, stretch, *crossing);
+                if (crossing->leaf >= 0) {
+                    crossing->part = crossing->leaf;
+                    crossing->leaf = solid->instance.leaf;
+                }
+            }
+        }
+        return spans;
+    }
     if (const auto* node = std::get_if<CsgNode<T>>(&shape)) {
         SpanList<T> spans = spans_of(node->children.front(), ray);
         for (std::size_t i = 1; i < node->children.size(); ++i) {
@@ -58,7 +74,8 @@ SpanList<T> spans_of(const Shape<T>& shape, const Ray<T>& ray) {
     }
     return std::visit(
         [&](const auto& primitive) -> SpanList<T> {
-            if constexpr (std::is_same_v<std::decay_t<decltype(primitive)>, CsgNode<T>>) {
+            using S = std::decay_t<decltype(primitive)>;
+            if constexpr (std::is_same_v<S, CsgNode<T>> || std::is_same_v<S, PlacedSolid<T>>) {
                 return {};
             } else {
                 auto span = span_of(primitive, ray);
@@ -68,14 +85,18 @@ SpanList<T> spans_of(const Shape<T>& shape, const Ray<T>& ray) {
         shape);
 }
 
+// An instance of a solid shape has none: its parts are its shape's.
 template <typename T>
 void collect_leaf_shapes(const Shape<T>& shape, std::vector<PrimitiveShape<T>>& leaves) {
     std::visit(
         [&](const auto& s) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(s)>, CsgNode<T>>) {
+            using S = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<S, CsgNode<T>>) {
                 for (const Shape<T>& child : s.children) {
                     collect_leaf_shapes<T>(child, leaves);
                 }
+            } else if constexpr (std::is_same_v<S, PlacedSolid<T>>) {
+                return;
             } else {
                 leaves[static_cast<std::size_t>(s.leaf)] = s;
             }
@@ -118,7 +139,7 @@ int record_ray(RayTree* tree, RayKind kind, int depth, int parent, const Ray<T>&
     }
     int index = tree->add(kind, depth, parent, recorded(ray.origin), recorded(ray.direction));
     if (hit) {
-        tree->set_hit(index, hit->leaf, hit->triangle, static_cast<double>(hit->t), recorded(hit->point),
+        tree->set_hit(index, hit->leaf, hit->triangle, hit->part, static_cast<double>(hit->t), recorded(hit->point),
                       recorded(hit->normal), hit->entering);
     }
     return index;
@@ -151,6 +172,24 @@ Tracer<T>::Tracer(const scene::Scene& scene, Accel accel, const ExternalIntersec
         bounds.push_back(scene::bounds(object));
         bounded_primitives += ObjectBvh<T>::is_finite(bounds.back()) ? primitives_in(object) : 0;
     }
+    std::vector<std::shared_ptr<const SolidShape<T>>> solid_shapes;
+    std::vector<scene::Bounds> solid_bounds;
+    for (const scene::SolidShape& shape : scene.solid_shapes) {
+        auto compiled =
+            std::make_shared<SolidShape<T>>(SolidShape<T>{compile<T>(shape.tree), {}, shape.part_materials});
+        compiled->parts.resize(shape.part_paths.size());
+        collect_leaf_shapes<T>(compiled->tree, compiled->parts);
+        solid_shapes.push_back(std::move(compiled));
+        solid_bounds.push_back(scene::bounds(shape.tree));
+    }
+    first_solid_instance_ = objects_.size();
+    for (const scene::SolidInstance& instance : scene.solid_instances) {
+        const auto shape = static_cast<std::size_t>(instance.placement.shape);
+        objects_.push_back(PlacedSolid<T>{solid_shapes[shape], make_instance<T>(instance.placement, instance.leaf),
+                                          instance.material});
+        bounds.push_back(scene::placed_bounds(solid_bounds[shape], instance.placement.transform()));
+        bounded_primitives += ObjectBvh<T>::is_finite(bounds.back()) ? scene.solid_shapes[shape].part_paths.size() : 0;
+    }
     if (accel == Accel::bvh || (accel == Accel::automatic && bounded_primitives > bvh_crossover)) {
         bvh_ = ObjectBvh<T>(bounds);
     }
@@ -167,7 +206,7 @@ Tracer<T>::Tracer(const scene::Scene& scene, Accel accel, const ExternalIntersec
             meshes_.push_back(make_shape<T>(mesh, accel));
             continue;
         }
-        instances_.push_back(make_instance<T>(mesh));
+        instances_.push_back(make_instance<T>(*mesh.placement, mesh.leaf));
         instance_bounds.push_back(scene::placed_bounds(shape_bounds[static_cast<std::size_t>(mesh.placement->shape)],
                                                        mesh.placement->transform()));
     }
@@ -181,7 +220,7 @@ template <typename T>
 template <typename Limit, typename Visit>
 void Tracer<T>::for_each_instance_crossing(const Ray<T>& ray, Limit&& limit, Visit&& visit) const {
     auto test = [&](std::size_t index) {
-        const MeshInstance<T>& instance = instances_[index];
+        const Instance<T>& instance = instances_[index];
         for_each_crossing(mesh_shapes_[instance.shape], object_ray(instance, ray), limit,
                           [&](const TriangleCrossing<T>& crossing) { visit(instance, crossing); });
     };
@@ -210,6 +249,24 @@ void Tracer<T>::for_each_candidate(const Ray<T>& ray, Limit&& limit, Visit&& vis
 }
 
 template <typename T>
+int Tracer<T>::material_index(int leaf, int part) const {
+    if (part < 0) {
+        return leaf_materials_[static_cast<std::size_t>(leaf)];
+    }
+    const PlacedSolid<T>& solid = solid_instance(leaf);
+    const int own = solid.shape->part_materials[static_cast<std::size_t>(part)];
+    return own >= 0 ? own : solid.material;
+}
+
+template <typename T>
+const PlacedSolid<T>& Tracer<T>::solid_instance(int leaf) const {
+    auto leaf_of = [](const Shape<T>& object) { return std::get<PlacedSolid<T>>(object).instance.leaf; };
+    auto found = std::lower_bound(objects_.begin() + static_cast<std::ptrdiff_t>(first_solid_instance_), objects_.end(),
+                                  leaf, [&](const Shape<T>& object, int wanted) { return leaf_of(object) < wanted; });
+    return std::get<PlacedSolid<T>>(*found);
+}
+
+template <typename T>
 std::optional<Hit<T>> Tracer<T>::intersect(const Ray<T>& ray) const {
     if (!is_traceable(ray)) {
         return std::nullopt;
@@ -233,13 +290,16 @@ std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
             if (!(crossing.t > T(0))) {
                 continue;
             }
-            // Nearer, or as near and earlier in the file (a smaller leaf): the object earlier in the file keeps
-            // the hit, in whatever order the objects come.
+            // Nearer, or as near and earlier in the file (a smaller leaf, then within an instance a smaller part):
+            // the object earlier in the file keeps the hit, in whatever order the objects come.
             if (crossing.leaf >= 0 &&
-                (!nearest || crossing.t < nearest->t || (crossing.t == nearest->t && crossing.leaf < nearest->leaf))) {
+                (!nearest || crossing.t < nearest->t ||
+                 (crossing.t == nearest->t && (crossing.leaf < nearest->leaf ||
+                                               (crossing.leaf == nearest->leaf && crossing.part < nearest->part))))) {
                 Vec3<T> facing = dot(crossing.outward_normal, ray.direction) > T(0) ? -crossing.outward_normal
                                                                                     : crossing.outward_normal;
-                nearest = Hit<T>{crossing.t, ray.at(crossing.t), facing, crossing.leaf, -1, entering, T(0), facing};
+                nearest = Hit<T>{crossing.t, ray.at(crossing.t), facing, crossing.leaf, -1, entering, T(0),
+                                 facing,     crossing.part};
             }
             break;
         }
@@ -262,8 +322,8 @@ std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
             }
         });
     }
-    const MeshInstance<T>* hit_instance = nullptr;
-    for_each_instance_crossing(ray, limit, [&](const MeshInstance<T>& instance, const TriangleCrossing<T>& crossing) {
+    const Instance<T>* hit_instance = nullptr;
+    for_each_instance_crossing(ray, limit, [&](const Instance<T>& instance, const TriangleCrossing<T>& crossing) {
         int triangle = static_cast<int>(crossing.triangle);
         if (nearer(crossing.t, instance.leaf, triangle)) {
             Vec3<T> facing = facing_normal(instance, mesh_shapes_[instance.shape], crossing);
@@ -281,7 +341,7 @@ std::optional<Hit<T>> Tracer<T>::first_hit(const Ray<T>& ray) const {
 }
 
 template <typename T>
-void Tracer<T>::project_onto_surface(Hit<T>& hit, const MeshShape<T>* mesh, const MeshInstance<T>* instance) const {
+void Tracer<T>::project_onto_surface(Hit<T>& hit, const MeshShape<T>* mesh, const Instance<T>* instance) const {
     const auto triangle = static_cast<std::uint32_t>(hit.triangle);
     SurfacePoint<T> on_surface;
     if (instance != nullptr) {
@@ -293,6 +353,17 @@ void Tracer<T>::project_onto_surface(Hit<T>& hit, const MeshShape<T>* mesh, cons
         on_surface = surface_point(*mesh, triangle, hit.point, hit.normal);
         hit.point = on_surface.point;
         hit.shading_normal = shading_normal(*mesh, triangle, hit.point, hit.normal);
+    } else if (hit.part >= 0) {
+        const PlacedSolid<T>& solid = solid_instance(hit.leaf);
+        const math::Transform<T>& m = solid.instance.to_world;
+        on_surface = placed_surface_point(m, solid.instance.norms, hit.point, [&](Vec3<T> object_point) {
+            return std::visit(
+                [&](const auto& shape) {
+                    return surface_point(shape, object_point, normalize(m.normal_to_object(hit.normal)));
+                },
+                solid.shape->parts[static_cast<std::size_t>(hit.part)]);
+        });
+        hit.point = on_surface.point;
     } else {
         on_surface = std::visit([&](const auto& shape) { return surface_point(shape, hit.point, hit.normal); },
                                 leaf_shapes_[static_cast<std::size_t>(hit.leaf)]);
@@ -352,7 +423,7 @@ T Tracer<T>::shadow_transmittance(Vec3<T> origin, Vec3<T> light_position) const 
         for (const Span<T>& span : spans_of(object, ray)) {
             for (const Crossing<T>* crossing : {&span.enter, &span.exit}) {
                 if (crossing->leaf >= 0 && crossing->t > T(0) && crossing->t < distance) {
-                    transmittance *= material_of(crossing->leaf).transmission;
+                    transmittance *= material_of(crossing->leaf, crossing->part).transmission;
                 }
             }
             if (transmittance == T(0)) {
@@ -407,7 +478,7 @@ T Tracer<T>::meshes_transmittance(const Ray<T>& ray, T distance, T transmittance
     std::vector<int> crossed;
     for_each_instance_crossing(
         ray, [&] { return distance; },
-        [&](const MeshInstance<T>& instance, const TriangleCrossing<T>& crossing) {
+        [&](const Instance<T>& instance, const TriangleCrossing<T>& crossing) {
             if (crossing.t < distance) {
                 crossed.push_back(instance.leaf);
             }
@@ -438,7 +509,7 @@ int Tracer<T>::mesh_crossings(const Ray<T>& ray, T distance) const {
     }
     for_each_instance_crossing(
         ray, [&] { return distance; },
-        [&](const MeshInstance<T>&, const TriangleCrossing<T>& crossing) { count += crossing.t < distance ? 1 : 0; });
+        [&](const Instance<T>&, const TriangleCrossing<T>& crossing) { count += crossing.t < distance ? 1 : 0; });
     return count;
 }
 
@@ -498,7 +569,7 @@ template <typename T>
 Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, const scene::RayShare& share, TreeWalk& walk,
                           int node) const {
     RayTree* tree = walk.tree;
-    const Material<T>& m = material_of(hit.leaf);
+    const Material<T>& m = material_of(hit.leaf, hit.part);
     Color<T> color = m.ambient * (m.color * ambient_light_);
     const Vec3<T>& shading = hit.shading_normal;
     Vec3<T> mirror = reflect(ray.direction, shading);
@@ -532,7 +603,7 @@ Color<T> Tracer<T>::shade(const Ray<T>& ray, const Hit<T>& hit, int depth, const
         return color;
     }
     // Each child is traced only if the depth control admits it (scene/depth_control.h).
-    int material = leaf_materials_[static_cast<std::size_t>(hit.leaf)];
+    int material = material_index(hit.leaf, hit.part);
     std::uint32_t traced_before_children = walk.ledger.traced;
     T reflection = m.reflection;
     bool total_internal = false;

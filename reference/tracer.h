@@ -19,6 +19,7 @@
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <variant>
@@ -42,14 +43,35 @@ using PrimitiveShape = typename PrimitiveShapes<T>::template apply<std::variant>
 
 template <typename T>
 struct CsgNode;
+template <typename T>
+struct PlacedSolid;
 
 template <typename T>
-using Shape = typename PrimitiveShapes<T>::template append<CsgNode<T>>::template apply<std::variant>;
+using Shape = typename PrimitiveShapes<T>::template append<CsgNode<T>, PlacedSolid<T>>::template apply<std::variant>;
 
 template <typename T>
 struct CsgNode {
     scene::CsgOp op = scene::CsgOp::union_;
     std::vector<Shape<T>> children;
+};
+
+// A solid shape (scene::SolidShape) compiled once in its own space, its parts numbered as leaves there: the tree, each
+// part's primitive by number (where its hits are re-projected) and material (-1: the instance's).
+template <typename T>
+struct SolidShape {
+    Shape<T> tree;
+    std::vector<PrimitiveShape<T>> parts;
+    std::vector<int> part_materials;
+};
+
+// An instance of a solid shape, tested as any top-level object: the world ray carried into the shape's space
+// (unit_object_ray), the shape's spans found there and carried back, each crossing naming the instance's leaf and
+// the part.
+template <typename T>
+struct PlacedSolid {
+    std::shared_ptr<const SolidShape<T>> shape;
+    Instance<T> instance;
+    int material = 0;  // where a part names none
 };
 
 template <typename T>
@@ -97,7 +119,8 @@ public:
     // Where a secondary ray leaving `hit` towards `direction` starts: hit.spawn_offset off the surface.
     static Vec3<T> spawn_origin(const Hit<T>& hit, Vec3<T> direction);
 
-    const Material<T>& material_of(int leaf) const { return materials_[leaf_materials_[leaf]]; }
+    // What a hit names: a leaf, or on an instance of a solid shape its part.
+    const Material<T>& material_of(int leaf, int part = -1) const { return materials_[material_index(leaf, part)]; }
 
 private:
     // One pixel's tree as it is traced: rays counted, what the depth control left out, the recording.
@@ -107,13 +130,17 @@ private:
         RayTree* tree = nullptr;
     };
 
+    int material_index(int leaf, int part) const;
+    // The instance of a solid shape whose leaf this is.
+    const PlacedSolid<T>& solid_instance(int leaf) const;
+
     // intersect() without the check of the ray: every ray the tracer makes itself is traceable.
     std::optional<Hit<T>> first_hit(const Ray<T>& ray) const;
     // first_hit() from the external intersector's nearest crossing.
     std::optional<Hit<T>> external_hit(const Ray<T>& ray) const;
     // Moves hit.point onto the surface of its primitive (`mesh` or `instance` where it is one of theirs), with its
     // spawn offset and, on a smooth mesh, its shading normal.
-    void project_onto_surface(Hit<T>& hit, const MeshShape<T>* mesh, const MeshInstance<T>* instance) const;
+    void project_onto_surface(Hit<T>& hit, const MeshShape<T>* mesh, const Instance<T>* instance) const;
     // `transmittance` (the objects' product so far) times that of every mesh triangle the ray crosses before
     // `distance`.
     T meshes_transmittance(const Ray<T>& ray, T distance, T transmittance) const;
@@ -133,7 +160,10 @@ private:
     std::vector<Material<T>> materials_;
     std::vector<int> leaf_materials_;
     std::vector<Light<T>> lights_;
+    // The scene's objects in file order, then its instances of solid shapes in file order (from
+    // first_solid_instance_ on, their leaves ascending).
     std::vector<Shape<T>> objects_;
+    std::size_t first_solid_instance_ = 0;
     std::vector<PrimitiveShape<T>> leaf_shapes_;  // by leaf index: where hit points are re-projected
     ObjectBvh<T> bvh_;                            // empty: every ray tests every object
     // Tested by every ray after the objects, each through its own BVH; a mesh's leaf in leaf_shapes_ is unused.
@@ -141,7 +171,7 @@ private:
     // Instances of mesh shapes, tested after the meshes: each shape built once in its own space (leaf unused),
     // the instances in file order and found through instance_bvh_ unless the BVH is off.
     std::vector<MeshShape<T>> mesh_shapes_;
-    std::vector<MeshInstance<T>> instances_;
+    std::vector<Instance<T>> instances_;
     ObjectBvh<T> instance_bvh_;
     const ExternalIntersector<T>* external_ = nullptr;
 

@@ -13,6 +13,52 @@
 
 namespace twinray::reference {
 
+// An instance of a shape (scene::Placement): the shape in its own space, built once and shared by every instance
+// (`shape`, an index into the tracer's), and this one's transform. For a mesh shape a ray goes in as a transformed
+// primitive's does, o' = L⁻¹·(o − t), d' = L⁻¹·d, but d' is left as it is: the triangle test takes any direction,
+// and along o' + t·d' the object ray meets a triangle at the world ray's own t. A solid shape's primitives take a
+// unit direction, as a transformed primitive's do (unit_object_ray).
+template <typename T>
+struct Instance {
+    std::uint32_t shape = 0;
+    math::Transform<T> to_world;
+    scene::TransformNorms<T> norms;
+    bool mirrors = false;  // det L < 0: a placed mesh's fronts face the other way (scene.h)
+    int leaf = -1;
+};
+
+template <typename T>
+Instance<T> make_instance(const scene::Placement& placement, int leaf) {
+    const scene::Transform m = placement.transform();
+    return {static_cast<std::uint32_t>(placement.shape), math::Transform<T>::from(m), scene::transform_norms<T>(m),
+            math::determinant(m.linear) < 0, leaf};
+}
+
+template <typename T>
+Ray<T> object_ray(const Instance<T>& instance, const Ray<T>& ray) {
+    return {instance.to_world.point_to_object(ray.origin), instance.to_world.direction_to_object(ray.direction)};
+}
+
+// The object-space ray o' = L⁻¹·(o − t), d' = L⁻¹·d is the world ray's line point for point at the same t, but
+// d' is not of unit length and every primitive's span_of takes a unit direction: with s = |d'| (`stretch`) the
+// object ray runs along d'/s and meets a surface at t' = s·t.
+template <typename T>
+Ray<T> unit_object_ray(const math::Transform<T>& m, const Ray<T>& ray, T& stretch) {
+    Vec3<T> direction = m.direction_to_object(ray.direction);
+    stretch = length(direction);
+    return {m.point_to_object(ray.origin), direction / stretch};
+}
+
+// An object-space crossing of unit_object_ray's brought back: t' / s, and the normal through the inverse transpose,
+// L⁻ᵀ·n, which keeps it perpendicular to the placed surface, made unit again.
+template <typename T>
+void carry_back(const math::Transform<T>& m, T stretch, Crossing<T>& crossing) {
+    crossing.t = crossing.t / stretch;
+    if (crossing.leaf >= 0) {
+        crossing.outward_normal = normalize(m.normal_to_world(crossing.outward_normal));
+    }
+}
+
 // The primitive in object space (its leaf is this one's), its transform and norms, held apart
 // (scene::TransformedRecord): the variant of every object stays its plain size.
 template <typename T, typename Inner>
@@ -29,23 +75,13 @@ auto make_shape(const scene::Transformed<S>& primitive, int leaf) {
     return TransformedShape<T, decltype(inner)>(inner, primitive.to_world(), leaf);
 }
 
-// The object-space ray o' = L⁻¹·(o − t), d' = L⁻¹·d is the world ray's line point for point at the same t, but
-// d' is not of unit length and every primitive's span_of takes a unit direction: with s = |d'| the object ray
-// runs along d'/s and meets the surface at t' = s·t. Normals come back through the inverse transpose, L⁻ᵀ·n,
-// which keeps them perpendicular to the placed surface, and are made unit again.
 template <typename T, typename Inner>
 std::optional<Span<T>> span_of(const TransformedShape<T, Inner>& shape, const Ray<T>& ray) {
-    Vec3<T> direction = shape.to_world().direction_to_object(ray.direction);
-    T stretch = length(direction);
-    std::optional<Span<T>> span =
-        span_of(shape.inner(), Ray<T>{shape.to_world().point_to_object(ray.origin), direction / stretch});
+    T stretch;
+    std::optional<Span<T>> span = span_of(shape.inner(), unit_object_ray(shape.to_world(), ray, stretch));
     if (span) {
-        for (Crossing<T>* crossing : {&span->enter, &span->exit}) {
-            crossing->t = crossing->t / stretch;
-            if (crossing->leaf >= 0) {
-                crossing->outward_normal = normalize(shape.to_world().normal_to_world(crossing->outward_normal));
-            }
-        }
+        carry_back(shape.to_world(), stretch, span->enter);
+        carry_back(shape.to_world(), stretch, span->exit);
     }
     return span;
 }

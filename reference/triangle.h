@@ -72,31 +72,6 @@ bool lost_once_rounded(const MeshShape<T>& shape, std::uint32_t triangle) {
     }
 }
 
-// An instance of a mesh shape (scene::Mesh::placement): the shape's triangles in its own space, built once and
-// shared by every instance (`shape`, an index into the tracer's), and this one's transform. A ray goes in as
-// transformed.h's do, o' = L⁻¹·(o − t), d' = L⁻¹·d, but d' is left as it is: the triangle test takes any
-// direction, and along o' + t·d' the object ray meets a triangle at the world ray's own t.
-template <typename T>
-struct MeshInstance {
-    std::uint32_t shape = 0;
-    math::Transform<T> to_world;
-    scene::TransformNorms<T> norms;
-    bool mirrors = false;  // det L < 0: the placed triangles' fronts face the other way (scene.h)
-    int leaf = -1;
-};
-
-template <typename T>
-MeshInstance<T> make_instance(const scene::Mesh& mesh) {
-    const scene::Transform m = mesh.placement->transform();
-    return {static_cast<std::uint32_t>(mesh.placement->shape), math::Transform<T>::from(m),
-            scene::transform_norms<T>(m), math::determinant(m.linear) < 0, mesh.leaf};
-}
-
-template <typename T>
-Ray<T> object_ray(const MeshInstance<T>& instance, const Ray<T>& ray) {
-    return {instance.to_world.point_to_object(ray.origin), instance.to_world.direction_to_object(ray.direction)};
-}
-
 // A mesh's triangles in T (a mesh of `objects` in world coordinates, a shape in its own), with `leaf`.
 template <typename T>
 MeshShape<T> make_shape(const scene::MeshData& data, int leaf, Accel accel) {
@@ -234,7 +209,7 @@ SurfacePoint<T> surface_point(const MeshShape<T>& mesh, std::uint32_t triangle, 
 // A hit on an instance: the point re-projected in object space by the triangle's own rule and carried back
 // (transformed.h's placed_surface_point), its spawn offset carried through both trips.
 template <typename T>
-SurfacePoint<T> surface_point(const MeshInstance<T>& instance, const MeshShape<T>& shape, std::uint32_t triangle,
+SurfacePoint<T> surface_point(const Instance<T>& instance, const MeshShape<T>& shape, std::uint32_t triangle,
                               Vec3<T> point) {
     return placed_surface_point(instance.to_world, instance.norms, point, [&](Vec3<T> object_point) {
         return surface_point(shape, triangle, object_point, front_normal(shape, triangle));
@@ -243,7 +218,7 @@ SurfacePoint<T> surface_point(const MeshInstance<T>& instance, const MeshShape<T
 
 // The geometric normal of the placed triangle's side the ray met, through the inverse transpose.
 template <typename T>
-Vec3<T> facing_normal(const MeshInstance<T>& instance, const MeshShape<T>& shape, const TriangleCrossing<T>& crossing) {
+Vec3<T> facing_normal(const Instance<T>& instance, const MeshShape<T>& shape, const TriangleCrossing<T>& crossing) {
     Vec3<T> front = front_normal(shape, crossing.triangle);
     return normalize(instance.to_world.normal_to_world(crossing.front ? front : -front));
 }
@@ -251,8 +226,8 @@ Vec3<T> facing_normal(const MeshInstance<T>& instance, const MeshShape<T>& shape
 // The shape's interpolated normal at the point's object-space image, carried out through the inverse transpose
 // and turned to `facing` in the world (the turn is not kept by the transform: it keeps sides, not angles).
 template <typename T>
-Vec3<T> shading_normal(const MeshInstance<T>& instance, const MeshShape<T>& shape, std::uint32_t triangle,
-                       Vec3<T> point, Vec3<T> facing) {
+Vec3<T> shading_normal(const Instance<T>& instance, const MeshShape<T>& shape, std::uint32_t triangle, Vec3<T> point,
+                       Vec3<T> facing) {
     if (shape.normals.empty()) {
         return facing;
     }

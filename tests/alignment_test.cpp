@@ -79,7 +79,7 @@ std::size_t load_every_group(const PrimitiveLists& lists) {
 std::size_t load_every_group(const CompiledScene& compiled) {
     std::size_t records = load_every_group(compiled.primitives);
     for (const CsgObject& object : compiled.csg_objects) {
-        records += load_every_group(object.leaves);
+        records += load_every_group(object.tree->leaves);
         load_with_movaps(&object.bound);  // in place, inside the heap array of CsgObject
         ++records;
     }

@@ -111,7 +111,7 @@ TEST_F(SseTracerTest, EveryPrimitiveRecordOnTheHeapIsSixteenByteAligned) {
         const twinray::sse::CompiledScene& compiled = tracer.compiled();
         expect_aligned(compiled.primitives, name);
         for (const auto& object : compiled.csg_objects) {
-            expect_aligned(object.leaves, std::string(name) + " csg");
+            expect_aligned(object.tree->leaves, std::string(name) + " csg");
             EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&object.bound) % 16, 0u) << name << " csg bound";
         }
     }

@@ -49,37 +49,60 @@ double dot3(const Vec3d& a, const Vec3d& b) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-// What turns a leaf's normal as its hit point moves: its primitive, whose radius of curvature at a point each
-// primitive type gives (scene::curvature_radius), or a mesh's shading radius.
-struct Curvature {
-    const scene::Object* primitive = nullptr;
-    double mesh_radius = infinity;
+double curvature_radius(const scene::Object& primitive, const Vec3d& point) {
+    return std::visit(
+        [&](const auto& shape) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, scene::Csg>) {
+                return infinity;  // never a leaf: its children are
+            } else {
+                return scene::curvature_radius(shape, point);
+            }
+        },
+        primitive.shape);
+}
 
-    double radius_at(const Vec3d& point) const {
-        if (primitive == nullptr) {
-            return mesh_radius;
-        }
-        return std::visit(
-            [&](const auto& shape) {
-                if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, scene::Csg>) {
-                    return infinity;  // never a leaf: its children are
-                } else {
-                    return scene::curvature_radius(shape, point);
-                }
-            },
-            primitive->shape);
-    }
-};
+// A radius of curvature in an object's space seen through its transform: shrunk by the most the transform can bend
+// it, as a transformed primitive's curvature_radius is.
+double placed_radius(double object_radius, const scene::Transform& to_world) {
+    const double shrink = math::frobenius_norm(to_world.inverse);
+    return object_radius / (shrink * shrink * math::frobenius_norm(to_world.linear));
+}
 
-void collect_curvatures(const scene::Object& object, std::vector<Curvature>& by_leaf) {
+// Calls visit(primitive) for each primitive of the object.
+template <typename Visit>
+void for_each_primitive(const scene::Object& object, Visit&& visit) {
     if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
         for (const scene::Object& child : csg->children) {
-            collect_curvatures(child, by_leaf);
+            for_each_primitive(child, visit);
         }
         return;
     }
-    by_leaf[static_cast<std::size_t>(object.leaf)].primitive = &object;
+    visit(object);
 }
+
+// What turns a leaf's normal as its hit point moves: its primitive, whose radius of curvature at a point each
+// primitive type gives (scene::curvature_radius); a mesh's shading radius; or on an instance of a solid shape, the
+// part's primitive in the shape's space.
+struct Curvature {
+    const scene::Object* primitive = nullptr;
+    double mesh_radius = infinity;
+    const scene::SolidInstance* instance = nullptr;
+    const scene::SolidShape* shape = nullptr;  // the instance's
+
+    double radius_at(const Vec3d& point, int part) const {
+        if (instance == nullptr || part < 0) {
+            return primitive == nullptr ? mesh_radius : curvature_radius(*primitive, point);
+        }
+        const scene::Transform to_world = instance->placement.transform();
+        double radius = infinity;
+        for_each_primitive(shape->tree, [&](const scene::Object& candidate) {
+            if (candidate.leaf == part) {
+                radius = placed_radius(curvature_radius(candidate, to_world.point_to_object(point)), to_world);
+            }
+        });
+        return radius;
+    }
+};
 
 // A smooth mesh shades with normals interpolated along its edges: they turn by the angle between two
 // vertex normals over the edge's length, so its radius is the least edge length over that angle. A flat
@@ -105,7 +128,14 @@ double shading_radius(const scene::MeshData& mesh) {
 std::vector<Curvature> curvatures(const scene::Scene& scene) {
     std::vector<Curvature> by_leaf(scene.leaf_paths.size());
     for (const scene::Object& object : scene.objects) {
-        collect_curvatures(object, by_leaf);
+        for_each_primitive(object, [&](const scene::Object& primitive) {
+            by_leaf[static_cast<std::size_t>(primitive.leaf)].primitive = &primitive;
+        });
+    }
+    for (const scene::SolidInstance& instance : scene.solid_instances) {
+        Curvature& curvature = by_leaf[static_cast<std::size_t>(instance.leaf)];
+        curvature.instance = &instance;
+        curvature.shape = &scene.solid_shapes[static_cast<std::size_t>(instance.placement.shape)];
     }
     std::vector<double> shape_radius;
     for (const scene::MeshShape& shape : scene.mesh_shapes) {
@@ -117,11 +147,8 @@ std::vector<Curvature> curvatures(const scene::Scene& scene) {
             radius = shading_radius(*mesh.data);
             continue;
         }
-        // As a transformed primitive's curvature_radius: shrunk by the most the transform can bend it.
-        const scene::Transform to_world = mesh.placement->transform();
-        const double shrink = math::frobenius_norm(to_world.inverse);
-        radius = shape_radius[static_cast<std::size_t>(mesh.placement->shape)] /
-                 (shrink * shrink * math::frobenius_norm(to_world.linear));
+        radius =
+            placed_radius(shape_radius[static_cast<std::size_t>(mesh.placement->shape)], mesh.placement->transform());
     }
     return by_leaf;
 }
@@ -147,7 +174,7 @@ Band band_along(const scene::Scene& scene, const std::vector<Curvature>& curvatu
         if (!a.hit) {
             break;
         }
-        add_hit(band, a, curvature[static_cast<std::size_t>(a.leaf)].radius_at(a.point));
+        add_hit(band, a, curvature[static_cast<std::size_t>(a.leaf)].radius_at(a.point, a.part));
         if (k + 1 == path.size()) {
             break;
         }
@@ -157,7 +184,7 @@ Band band_along(const scene::Scene& scene, const std::vector<Curvature>& curvatu
         const RayNode& child = node_of(tree, path[k + 1]);
         double gain = 1;
         if (child.kind == RayKind::refracted) {
-            double ior = scene.material_of_leaf(a.leaf).ior;
+            double ior = scene.material_of_leaf(a.leaf, a.part).ior;
             double eta = a.entering ? 1 / ior : ior;
             gain = eta * std::fabs(dot3(a.normal, a.direction)) / std::fabs(dot3(child.direction, a.normal));
         }
@@ -171,7 +198,7 @@ bool same_hit(const std::optional<reference::Hit<double>>& hit, const RayNode& n
     if (hit.has_value() != node.hit) {
         return false;
     }
-    return !hit || (hit->leaf == node.leaf && hit->entering == node.entering);
+    return !hit || (hit->leaf == node.leaf && hit->part == node.part && hit->entering == node.entering);
 }
 
 // Two unit vectors across d.
@@ -234,7 +261,7 @@ bool light_flip_explained(const scene::Scene& scene, const reference::Tracer<dou
 // Refracted in one tree, totally reflected in the other: sin²θt = η²(1 − cos²θi) is within what the band
 // lets the ray and the normal move it from 1.
 bool refraction_flip_explained(const scene::Scene& scene, const RayNode& expected, const Band& band) {
-    double ior = scene.material_of_leaf(expected.leaf).ior;
+    double ior = scene.material_of_leaf(expected.leaf, expected.part).ior;
     double eta = expected.entering ? 1 / ior : ior;
     double cosine = std::fabs(dot3(expected.direction, expected.normal));
     double sin2 = eta * eta * (1 - cosine * cosine);
@@ -252,7 +279,7 @@ bool local_drift_explained(const scene::Scene& scene, const RayNode& expected, c
         max_abs_difference(expected.point, actual.point) > band.point) {
         return false;
     }
-    const scene::Material& m = scene.material_of_leaf(expected.leaf);
+    const scene::Material& m = scene.material_of_leaf(expected.leaf, expected.part);
     double colour = std::max({m.color.x, m.color.y, m.color.z});
     double allowed = rounding * (1 + max_abs(expected.local));
     for (std::size_t l = 0; l < std::min(expected.lights.size(), actual.lights.size()); ++l) {
@@ -302,7 +329,7 @@ bool colours_add_up(const scene::Scene& scene, const RayTree& tree, int index) {
     if (!node.hit) {
         return true;
     }
-    const scene::Material& m = scene.material_of_leaf(node.leaf);
+    const scene::Material& m = scene.material_of_leaf(node.leaf, node.part);
     bool refracted = false, refracted_left_out = false;
     Vec3d sum = node.local;
     double size = max_abs(node.local);
@@ -383,8 +410,8 @@ PixelCause judge_flip(const scene::Scene& scene, const std::vector<Curvature>& c
         explained = replay_agrees(reference, q, band, [&](const auto& hit) { return same_hit(hit, q); });
     } else if (what == "ray") {
         cause.cause = Cause::refraction;
-        explained =
-            p.hit && scene.material_of_leaf(p.leaf).transmission > 0 && refraction_flip_explained(scene, p, band);
+        explained = p.hit && scene.material_of_leaf(p.leaf, p.part).transmission > 0 &&
+                    refraction_flip_explained(scene, p, band);
     } else if (what.rfind("lights[", 0) == 0) {
         cause.cause = Cause::shadow;
         std::size_t light = static_cast<std::size_t>(std::stoul(what.substr(7)));
@@ -417,7 +444,7 @@ PixelCause attribute_with(const scene::Scene& scene, const std::vector<Curvature
         }
         const RayNode& p = node_of(expected, i);
         const RayNode& q = node_of(actual, j);
-        if (p.hit != q.hit || (p.hit && p.leaf != q.leaf)) {
+        if (p.hit != q.hit || (p.hit && (p.leaf != q.leaf || p.part != q.part))) {
             continue;  // judged as the flip
         }
         Band band = band_along(scene, curvature, expected, i);

@@ -18,7 +18,7 @@ RefVec to_double(const V& v) {
 
 template <typename H>
 FirstHit first_hit(const H& hit) {
-    return {hit.leaf, static_cast<double>(hit.t), to_double(hit.point), to_double(hit.normal), hit.entering};
+    return {hit.leaf, static_cast<double>(hit.t), to_double(hit.point), to_double(hit.normal), hit.entering, hit.part};
 }
 
 template <typename T>
@@ -43,7 +43,7 @@ bool same_answer(const std::optional<RefHit>& a, const std::optional<RefHit>& b)
         return false;
     if (!a)
         return true;
-    return a->leaf == b->leaf && angle_between(a->normal, b->normal) <= normal_bound_radians;
+    return a->leaf == b->leaf && a->part == b->part && angle_between(a->normal, b->normal) <= normal_bound_radians;
 }
 
 }  // namespace
@@ -66,9 +66,10 @@ FirstHitOf first_hits_of(const sse::Tracer& tracer, int width, int height) {
 FirstHitOf first_hits_of(const tracing::AnyTracer& tracer, int width, int height) {
     return [&tracer, width, height](int x, int y) -> std::optional<FirstHit> {
         const tracing::FirstHit hit = tracer.primary_hit(x, y, width, height);
-        return hit.hit ? std::optional<FirstHit>({hit.leaf, hit.t, RefVec{hit.point.x, hit.point.y, hit.point.z},
-                                                  RefVec{hit.normal.x, hit.normal.y, hit.normal.z}, hit.entering})
-                       : std::nullopt;
+        return hit.hit
+                   ? std::optional<FirstHit>({hit.leaf, hit.t, RefVec{hit.point.x, hit.point.y, hit.point.z},
+                                              RefVec{hit.normal.x, hit.normal.y, hit.normal.z}, hit.entering, hit.part})
+                   : std::nullopt;
     };
 }
 
@@ -152,7 +153,7 @@ RayAccuracy measure_rays(const std::vector<std::optional<FirstHit>>& expected, c
             ++accuracy.rays;
             if (want.has_value() != got.has_value()) {
                 ++accuracy.hit_miss_disagreements;
-            } else if (want && want->leaf != got->leaf) {
+            } else if (want && (want->leaf != got->leaf || want->part != got->part)) {
                 ++accuracy.other_object;
             } else if (want) {
                 t_relative.push_back(std::fabs(got->t - want->t) / want->t);

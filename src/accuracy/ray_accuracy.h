@@ -25,6 +25,7 @@ struct FirstHit {
     RefVec point;
     RefVec normal;
     bool entering = false;
+    int part = -1;  // on an instance of a solid shape, the shape's primitive
 };
 
 // A tracer's first hit along its primary ray through pixel (x, y) of a width × height image.

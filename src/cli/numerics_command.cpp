@@ -90,12 +90,20 @@ int run_numerics(const NumericsArguments& arguments) {
             std::cerr << "twinray numerics: invalid scene: " << error.what() << "\n";
             return exit_invalid_scene;
         }
-        // Its exact geometry (numerics/exact_geometry.cpp) is written per primitive type; meshes have none yet.
+        // Its exact geometry (numerics/exact_geometry.cpp) is written per primitive in the world; meshes and the
+        // parts of solid shapes' instances have none yet.
         if (scenes.back().second.has_meshes()) {
             std::cerr
                 << "twinray numerics: " << path
                 << ": meshes are not measured yet (the exact geometry of the scale table and the footprint covers "
                    "planes, spheres, cylinders and boxes); `twinray watertight` measures meshes\n";
+            return exit_invalid_scene;
+        }
+        if (!scenes.back().second.solid_instances.empty()) {
+            std::cerr << "twinray numerics: " << path
+                      << ": instances of CSG shapes are not measured yet (the exact geometry of the scale table and "
+                         "the footprint covers primitives in the world); write the shape's tree where it stands, "
+                         "with the instance's transform on it, to measure it\n";
             return exit_invalid_scene;
         }
     }

@@ -28,8 +28,8 @@ Json first_hit_json(const scene::Scene& scene, const RayTree& tree) {
               {"t", node.t},
               {"point", to_json(node.point)},
               {"normal", to_json(node.normal)},
-              {"object", object_name(scene, node.leaf)},
-              {"material", material_name(scene, node.leaf)},
+              {"object", object_name(scene, node)},
+              {"material", material_name(scene, node)},
               {"entering", node.entering}};
     add_triangle(scene, node, json);
     return json;
@@ -53,9 +53,9 @@ Json node_json(const scene::Scene& scene, const RayTree& tree, int index) {
               {"parent", node.parent}, {"origin", to_json(node.origin)},   {"direction", to_json(node.direction)},
               {"hit", node.hit}};
     if (node.hit) {
-        json["object"] = object_name(scene, node.leaf);
+        json["object"] = object_name(scene, node);
         add_triangle(scene, node, json);
-        json["material"] = material_name(scene, node.leaf);
+        json["material"] = material_name(scene, node);
         json["t"] = node.t;
         json["point"] = to_json(node.point);
         json["normal"] = to_json(node.normal);
@@ -109,7 +109,7 @@ Json divergence_value(const scene::Scene& scene, const RayNode* node, const std:
     if (what == "hit")
         return node->hit;
     if (what == "object")
-        return node->hit ? Json(object_name(scene, node->leaf)) : Json();
+        return node->hit ? Json(object_name(scene, *node)) : Json();
     if (what == "entering")
         return node->entering;
     if (what == "t")

@@ -83,9 +83,8 @@ std::string row_text(const scene::Scene& scene, const RayNode& node, const std::
     if (row == "hit") {
         if (!node.hit)
             return "miss (background)";
-        return object_name(scene, node.leaf) +
-               (node.triangle >= 0 ? " triangle " + std::to_string(node.triangle) : "") + " (" +
-               material_name(scene, node.leaf) + "), " + (node.entering ? "entering" : "leaving");
+        return object_name(scene, node) + (node.triangle >= 0 ? " triangle " + std::to_string(node.triangle) : "") +
+               " (" + material_name(scene, node) + "), " + (node.entering ? "entering" : "leaving");
     }
     if (row == "local colour")
         return format_vector(node.local, "%.6f");

@@ -47,11 +47,11 @@ Findings trace_target(const scene::Scene& scene, const Target& target, Accel acc
     return findings;
 }
 
-std::string object_name(const scene::Scene& scene, int leaf) {
-    if (leaf < 0 || static_cast<std::size_t>(leaf) >= scene.leaf_paths.size()) {
-        return "leaf " + std::to_string(leaf) + " (unknown)";
+std::string object_name(const scene::Scene& scene, const RayNode& node) {
+    if (node.leaf < 0 || static_cast<std::size_t>(node.leaf) >= scene.leaf_paths.size()) {
+        return "leaf " + std::to_string(node.leaf) + " (unknown)";
     }
-    return scene.leaf_name(leaf);
+    return scene.leaf_name(node.leaf, node.part);
 }
 
 std::optional<std::array<double, 3>> barycentrics(const scene::Scene& scene, const RayNode& node) {
@@ -67,11 +67,11 @@ std::optional<std::array<double, 3>> barycentrics(const scene::Scene& scene, con
     return scene::barycentrics(*mesh->data, static_cast<std::uint32_t>(node.triangle), point);
 }
 
-std::string material_name(const scene::Scene& scene, int leaf) {
-    if (leaf < 0 || static_cast<std::size_t>(leaf) >= scene.leaf_materials.size()) {
+std::string material_name(const scene::Scene& scene, const RayNode& node) {
+    if (node.leaf < 0 || static_cast<std::size_t>(node.leaf) >= scene.leaf_materials.size()) {
         return "?";
     }
-    return scene.material_names[static_cast<std::size_t>(scene.leaf_materials[static_cast<std::size_t>(leaf)])];
+    return scene.material_names[static_cast<std::size_t>(scene.material_of(node.leaf, node.part))];
 }
 
 const RayNode* node_at(const RayTree* tree, int index) {

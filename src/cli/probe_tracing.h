@@ -38,10 +38,10 @@ Findings trace_target(const scene::Scene& scene, const Target& target, Accel acc
                       const std::string& tracer = "sse");
 
 // Naming what a tree holds, for the text and the JSON alike.
-std::string object_name(const scene::Scene& scene, int leaf);
+std::string object_name(const scene::Scene& scene, const RayNode& node);
 // For a hit on a mesh's triangle, its vertices' weights at the hit point (scene::barycentrics); else none.
 std::optional<std::array<double, 3>> barycentrics(const scene::Scene& scene, const RayNode& node);
-std::string material_name(const scene::Scene& scene, int leaf);
+std::string material_name(const scene::Scene& scene, const RayNode& node);
 // The node at `index`, or nullptr where the tree is absent or the index is -1 (a ray the tracer did not trace).
 const RayNode* node_at(const RayTree* tree, int index);
 

@@ -130,6 +130,7 @@ struct FlatScene {
         for (const scene::Object& object : scene.objects) {
             add(object);
         }
+        csg = csg || !scene.solid_instances.empty();  // an instance of a CSG shape needs CSG as its tree does
         for (const scene::MeshShape& shape : scene.mesh_shapes) {
             shapes.push_back(mesh(*shape.data, TWINRAY_NONE));
         }

@@ -136,6 +136,9 @@ public:
         for (const scene::Object& object : scene_.objects) {
             top_level(object);
         }
+        for (const scene::SolidInstance& instance : scene_.solid_instances) {
+            top_level(scene_.solid_shapes[static_cast<std::size_t>(instance.placement.shape)].tree, &instance);
+        }
         // Each mesh shape once; its instances name it (POV-Ray copies a declared mesh's reference, not its data).
         for (std::size_t i = 0; i < scene_.mesh_shapes.size(); ++i) {
             line(0, "// " + scene_.mesh_shapes[i].name);
@@ -172,6 +175,12 @@ private:
         }
         for (const scene::Mesh& mesh : scene_.meshes) {
             used.at(static_cast<std::size_t>(mesh.material)) = true;
+        }
+        for (const scene::SolidInstance& instance : scene_.solid_instances) {
+            for_each_leaf(scene_.solid_shapes[static_cast<std::size_t>(instance.placement.shape)].tree,
+                          [&](const scene::Object& part) {
+                              used.at(static_cast<std::size_t>(material_of(part, &instance))) = true;
+                          });
         }
         for (std::size_t i = 0; i < materials_.size() && !object_ids_; ++i) {
             if (used[i] && !materials_[i].residual.empty()) {
@@ -225,12 +234,21 @@ private:
         }
     }
 
-    InteriorPlan plan_interior(const scene::Object& object) const {
+    // A leaf's material; on an instance of a solid shape (`placed`), the part's as the instance resolves it.
+    int material_of(const scene::Object& leaf, const scene::SolidInstance* placed) const {
+        return placed == nullptr
+                   ? leaf.material
+                   : placed->material_of(scene_.solid_shapes[static_cast<std::size_t>(placed->placement.shape)],
+                                         leaf.leaf);
+    }
+
+    InteriorPlan plan_interior(const scene::Object& object, const scene::SolidInstance* placed) const {
         InteriorPlan plan;
         plan.shared = true;
         for_each_leaf(object, [&](const scene::Object& leaf) {
-            const scene::Material& m = scene_.materials[static_cast<std::size_t>(leaf.material)];
-            const PovMaterial& p = materials_[static_cast<std::size_t>(leaf.material)];
+            const auto material = static_cast<std::size_t>(material_of(leaf, placed));
+            const scene::Material& m = scene_.materials[material];
+            const PovMaterial& p = materials_[material];
             if (m.transmission == 0) {
                 return;
             }
@@ -247,13 +265,18 @@ private:
         return plan;
     }
 
-    void top_level(const scene::Object& object) {
+    // An element of `objects`, or the tree of the solid shape instance `placed` places, written where it stands
+    // with the instance's matrix.
+    void top_level(const scene::Object& object, const scene::SolidInstance* placed = nullptr) {
+        std::vector<std::string> modifiers;
+        if (placed != nullptr) {
+            modifiers.push_back(matrix(placed->placement.transform()));
+        }
         if (object_ids_) {
-            write_object(object, 0, Pass::object_ids);
+            write_object(object, 0, Pass::object_ids, modifiers, placed);
             return;
         }
-        plan_ = plan_interior(object);
-        std::vector<std::string> modifiers;
+        plan_ = plan_interior(object, placed);
         if (plan_.shared) {
             modifiers.push_back("interior { ior " + number(plan_.ior) + " }");
         } else if (plan_.transparent) {
@@ -264,29 +287,36 @@ private:
         if (plan_.needs_shadow_caster) {
             modifiers.push_back("no_shadow  // the copy below casts this object's shadows");
         }
-        write_object(object, 0, Pass::shaded, modifiers);
+        write_object(object, 0, Pass::shaded, modifiers, placed);
         if (plan_.needs_shadow_caster) {
             line(0, "// The same object, invisible to every ray but shadow rays, passing our transmission to shadows.");
-            write_object(object, 0, Pass::shadow_caster, {"no_image", "no_reflection"});
+            std::vector<std::string> caster{"no_image", "no_reflection"};
+            if (placed != nullptr) {
+                caster.push_back(matrix(placed->placement.transform()));
+            }
+            write_object(object, 0, Pass::shadow_caster, caster, placed);
         }
     }
 
-    // `modifiers` close the object's block (POV-Ray wants object modifiers after a CSG's children).
+    // `modifiers` close the object's block (POV-Ray wants object modifiers after a CSG's children). `placed`: the
+    // instance whose solid shape's tree this is (its leaves are parts, named and coloured as the instance's).
     void write_object(const scene::Object& object, int indent, Pass pass,
-                      const std::vector<std::string>& modifiers = {}) {
+                      const std::vector<std::string>& modifiers = {}, const scene::SolidInstance* placed = nullptr) {
         std::visit(
             [&](const auto& shape) {
                 using S = std::decay_t<decltype(shape)>;
                 if constexpr (!scene::is_primitive<S>) {
                     line(indent, std::string(csg_keyword(shape.op)) + " {");
                     for (const scene::Object& child : shape.children) {
-                        write_object(child, indent + 1, pass);
+                        write_object(child, indent + 1, pass, {}, placed);
                     }
                 } else {
-                    line(indent, "// " + scene_.leaf_paths.at(static_cast<std::size_t>(object.leaf)));
+                    const int leaf = placed != nullptr ? placed->leaf : object.leaf;
+                    line(indent, "// " + (placed != nullptr ? scene_.leaf_name(leaf, object.leaf)
+                                                            : scene_.leaf_paths.at(static_cast<std::size_t>(leaf))));
                     line(indent, std::string(primitive(shape)) + " {");
                     line(indent + 1, geometry(shape));
-                    appearance(object.leaf, object.material, indent + 1, pass);
+                    appearance(leaf, material_of(object, placed), indent + 1, pass);
                 }
                 for (const std::string& modifier : modifiers) {
                     line(indent + 1, modifier);

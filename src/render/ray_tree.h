@@ -55,6 +55,7 @@ struct RayNode {
     // When hit: the first surface (the tracer's intersect()).
     int leaf = -1;      // Scene::leaf_paths
     int triangle = -1;  // for a mesh, the triangle's index in it
+    int part = -1;      // on an instance of a solid shape, the shape's primitive
     double t = 0;
     Vec3d point{};
     Vec3d normal{};  // unit, facing the ray
@@ -92,11 +93,12 @@ struct RayTree {
     }
 
     // What the ray of `node` hit (a node without this call is a miss).
-    void set_hit(int node, int leaf, int triangle, double t, Vec3d point, Vec3d normal, bool entering) {
+    void set_hit(int node, int leaf, int triangle, int part, double t, Vec3d point, Vec3d normal, bool entering) {
         RayNode& n = nodes[static_cast<std::size_t>(node)];
         n.hit = true;
         n.leaf = leaf;
         n.triangle = triangle;
+        n.part = part;
         n.t = t;
         n.point = point;
         n.normal = normal;
@@ -207,7 +209,7 @@ public:
             return;
         }
         if (p.hit) {
-            if (p.leaf != q.leaf) {
+            if (p.leaf != q.leaf || p.part != q.part) {
                 found_.push_back({i, j, "object", 0, 0});
                 return;
             }

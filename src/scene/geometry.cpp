@@ -70,6 +70,9 @@ Scene moved(const Scene& scene, double scale, const Vec3& shift) {
     for (Mesh& mesh : result.meshes) {
         mesh = moved(mesh, scale, shift);
     }
+    for (SolidInstance& instance : result.solid_instances) {
+        instance.placement = moved(instance.placement, scale, shift);
+    }
     return result;
 }
 
@@ -111,14 +114,20 @@ Bounds vertex_bounds(const MeshData& mesh) {
     return out;
 }
 
+Placement moved(const Placement& placement, double scale, const Vec3& shift) {
+    // As a transformed primitive's: (s·L)·x + (s·t + shift), the shape itself kept.
+    Placement out = placement;
+    for (Vec3& row : out.linear.row) {
+        row = scale * row;
+    }
+    out.translation = moved(out.translation, scale, shift);
+    return out;
+}
+
 Mesh moved(const Mesh& mesh, double scale, const Vec3& shift) {
     Mesh out = mesh;
     if (out.placement) {
-        // As a transformed primitive's: (s·L)·x + (s·t + shift), the shape's own vertices kept.
-        for (Vec3& row : out.placement->linear.row) {
-            row = scale * row;
-        }
-        out.placement->translation = moved(out.placement->translation, scale, shift);
+        out.placement = moved(*out.placement, scale, shift);
         return out;
     }
     auto data = std::make_shared<MeshData>(*mesh.data);

@@ -201,6 +201,9 @@ inline double placement_rounding(const Transform& m, double object_coordinate) {
 // The box around an object-space box's eight corners, placed, and widened by their rounding.
 inline Bounds placed_bounds(const Bounds& inner, const Transform& to_world) {
     constexpr double inf = std::numeric_limits<double>::infinity();
+    if (!math::is_finite(inner.low) || !math::is_finite(inner.high)) {
+        return {{-inf, -inf, -inf}, {inf, inf, inf}};  // a turn makes any unbounded axis unbounded along all three
+    }
     Bounds out{{inf, inf, inf}, {-inf, -inf, -inf}};
     for (int corner = 0; corner < 8; ++corner) {
         Vec3 p{(corner & 1) ? inner.high.x : inner.low.x, (corner & 2) ? inner.high.y : inner.low.y,
@@ -350,6 +353,8 @@ void for_each_live_triangle(const MeshData& mesh, Visit&& visit) {
 std::array<double, 3> barycentrics(const MeshData& mesh, std::uint32_t triangle, const Vec3& point);
 // The box of every vertex (an instance's shape's, in its own space).
 Bounds vertex_bounds(const MeshData& mesh);
+// An instance's placement followed by the move (p·scale + shift).
+Placement moved(const Placement& placement, double scale, const Vec3& shift);
 // Vertices moved, normals kept (a move is a scale and a translation); an instance's placement moved instead.
 Mesh moved(const Mesh& mesh, double scale, const Vec3& shift);
 double largest_coordinate(const Mesh& mesh);
@@ -369,7 +374,7 @@ math::SurfaceBounds<T> surface_bounds_of_triangle(T longest_edge) {
 Bounds bounds(const Object& object);
 // Every primitive moved (p·scale + shift, lengths times scale).
 void move(Object& object, double scale, const Vec3& shift);
-// The whole scene moved so: camera, lights, every object and every mesh.
+// The whole scene moved so: camera, lights, every object, mesh and instance (shapes stay in their own space).
 Scene moved(const Scene& scene, double scale, const Vec3& shift);
 // Every coordinate and length rounded to float: the geometry a float tracer holds.
 void round_to_float(Object& object);

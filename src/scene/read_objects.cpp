@@ -281,6 +281,23 @@ void shade_mesh(const Node& node, MeshData& mesh) {
                                               : "shapes declared: " + join(declared)));
 }
 
+// Calls visit(to_world) for each primitive of `tree` held in its own space (scene::Transformed).
+template <typename Visit>
+void for_each_part_transform(const Object& tree, Visit&& visit) {
+    std::visit(
+        [&](const auto& shape) {
+            using S = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<S, Csg>) {
+                for (const Object& child : shape.children) {
+                    for_each_part_transform(child, visit);
+                }
+            } else if constexpr (requires { shape.to_world(); }) {
+                visit(shape.to_world());
+            }
+        },
+        tree.shape);
+}
+
 // Reads the objects of one top-level element; `names` are the material names objects may use.
 class ObjectReader {
 public:
@@ -350,11 +367,15 @@ public:
         const int material =
             read_or(node, "material", 0, [this](const Node& name) { return require_material_name(name); });
         const std::optional<Transform> to_world = placed_by(node, std::nullopt);
-        if (shape.mesh < 0) {
+        if (shape.mesh < 0 && shape.solid < 0) {
             return read_instanced(node, shape, 1, material, to_world);
         }
         if (primitives_ == max_primitives_) {
             refuse(node.path(), over_primitive_limit("the instance", max_primitives_));
+        }
+        if (shape.solid >= 0) {
+            add_solid_instance(node, material, to_world ? *to_world : identity_transform(), shape.solid);
+            return Object{};
         }
         const MeshShape& mesh = scene_.mesh_shapes[static_cast<std::size_t>(shape.mesh)];
         add_instance(node.path(), mesh.material >= 0 ? mesh.material : material,
@@ -522,6 +543,22 @@ private:
         }
     }
 
+    // An instance of solid shape `shape`: one leaf, counted one towards the limit. Each part's transform composed with
+    // the instance's is held to the condition limit, as where the loader composes them itself.
+    void add_solid_instance(const Node& node, int material, const Transform& to_world, int shape) {
+        const SolidShape& solid = scene_.solid_shapes[static_cast<std::size_t>(shape)];
+        for_each_part_transform(solid.tree, [&](const Transform& part) {
+            if (const std::optional<std::string> problem = why_unusable(math::composed(to_world, part))) {
+                refuse(node.path(), "composed with a transform of shape " + in_quotes(solid.name) + ": " + *problem);
+            }
+        });
+        ++primitives_;
+        const int leaf = static_cast<int>(scene_.leaf_paths.size());
+        scene_.leaf_paths.push_back(node.path());
+        scene_.leaf_materials.push_back(material);
+        scene_.solid_instances.push_back(SolidInstance{placement_of(to_world, shape), material, leaf});
+    }
+
     // An instance of mesh shape `shape`: one leaf, counted one towards the limit.
     void add_instance(const std::string& path, int material, const Transform& to_world, int shape) {
         ++primitives_;
@@ -646,12 +683,26 @@ void read_shapes(const std::vector<std::string>& material_names, std::size_t max
             shape.mesh = static_cast<int>(scene.mesh_shapes.size());
             scene.mesh_shapes.push_back(reader.read_mesh_shape(node, key_path("shapes", shape.name)));
         } else {
-            Scene scratch;
-            std::size_t scratch_primitives = 0;
-            ObjectReader checker(material_names, max_primitives, scratch_primitives, scratch, base_directory, nullptr,
-                                 true);
-            checker.read(node, 1, 0, std::nullopt);
-            require_csg_leaves_within_limit(node, scratch.leaf_paths.size());
+            // Read in the shape's own space, each part's material -1 where none is named (the instance's applies).
+            Scene parts;
+            std::size_t part_count = 0;
+            ObjectReader checker(material_names, max_primitives, part_count, parts, base_directory, nullptr, true);
+            Object tree = checker.read(node, 1, -1, std::nullopt);
+            require_csg_leaves_within_limit(node, part_count);
+            if (std::holds_alternative<Csg>(tree.shape)) {
+                if (part_count > max_primitives - primitives) {
+                    refuse(node.path(),
+                           over_primitive_limit("its " + std::to_string(part_count) + " primitives", max_primitives));
+                }
+                primitives += part_count;
+                shape.solid = static_cast<int>(scene.solid_shapes.size());
+                std::vector<std::string> part_paths;
+                for (std::size_t part = 0; part < parts.leaf_paths.size(); ++part) {
+                    part_paths.push_back(parts.leaf_paths[part]);
+                }
+                scene.solid_shapes.push_back(SolidShape{key_path("shapes", shape.name), std::move(tree),
+                                                        std::move(part_paths), std::move(parts.leaf_materials)});
+            }
         }
         out.add(std::move(shape));
     }
@@ -671,10 +722,11 @@ void read_top_level_object(const Node& element, const std::vector<std::string>& 
     }
     const std::size_t leaves_before = scene.leaf_paths.size();
     const std::size_t meshes_before = scene.meshes.size();
+    const std::size_t solid_instances_before = scene.solid_instances.size();
     Object object = std::holds_alternative<InstanceKind>(kind.shape) ? reader.read_top_level_instance(element)
                                                                      : reader.read(element, 1, 0, std::nullopt);
-    if (scene.meshes.size() > meshes_before) {
-        return;  // an instance of a mesh shape
+    if (scene.meshes.size() > meshes_before || scene.solid_instances.size() > solid_instances_before) {
+        return;  // an instance of a mesh shape or of a solid shape
     }
     scene.objects.push_back(std::move(object));
     require_csg_leaves_within_limit(element, scene.leaf_paths.size() - leaves_before);

@@ -39,7 +39,8 @@ void require_usable(const Node& where, const Transform& to_world);
 struct DeclaredShape {
     std::string name;
     JsonValue json;
-    int mesh = -1;
+    int mesh = -1;   // index into Scene::mesh_shapes
+    int solid = -1;  // index into Scene::solid_shapes
 };
 
 // The shapes a scene declares, found by name. Holds the nodes its shapes' paths are made from: not copied or
@@ -63,8 +64,9 @@ private:
     std::vector<DeclaredShape> list_;
 };
 
-// Reads every shape of `shapes` into `out`: each mesh into scene.mesh_shapes, counted towards `max_primitives`; every
-// other shape read once to refuse what it holds wrong, at its own path. A shape holding an instance is refused.
+// Reads every shape of `shapes` into `out`: each mesh into scene.mesh_shapes and each CSG tree into scene.solid_shapes,
+// counted towards `max_primitives`; a primitive read once to refuse what it holds wrong, at its own path. A shape
+// holding an instance is refused.
 // `primitives`: the scene's count towards the limit so far (Scene::primitive_count), kept up to date.
 void read_shapes(const std::vector<std::string>& material_names, std::size_t max_primitives, std::size_t& primitives,
                  const std::filesystem::path& base_directory, Scene& scene, DeclaredShapes& out);

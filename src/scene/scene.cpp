@@ -39,23 +39,34 @@ int side_keeping_aspect(const char* name, int given, int scene_side, int scene_g
     return checked_side(name, std::max(1LL, std::llround(side)));
 }
 
+// Whether any material a hit can find (a leaf's, a mesh's, an instance's part's) satisfies `predicate`.
+template <class Predicate>
+bool any_material_used(const Scene& scene, const Predicate& predicate) {
+    auto of = [&](int material) { return predicate(scene.materials[static_cast<std::size_t>(material)]); };
+    auto of_instance = [&](const SolidInstance& instance) {
+        const SolidShape& shape = scene.solid_shapes[static_cast<std::size_t>(instance.placement.shape)];
+        return std::any_of(shape.part_materials.begin(), shape.part_materials.end(),
+                           [&](int own) { return of(own >= 0 ? own : instance.material); });
+    };
+    return any_leaf(scene.objects, [&](const Object& leaf) { return of(leaf.material); }) ||
+           std::any_of(scene.meshes.begin(), scene.meshes.end(), [&](const Mesh& mesh) { return of(mesh.material); }) ||
+           std::any_of(scene.solid_instances.begin(), scene.solid_instances.end(), of_instance);
+}
+
 }  // namespace
 
 bool Scene::has_csg() const {
-    return std::any_of(objects.begin(), objects.end(),
-                       [](const Object& object) { return std::holds_alternative<Csg>(object.shape); });
+    return !solid_instances.empty() || std::any_of(objects.begin(), objects.end(), [](const Object& object) {
+        return std::holds_alternative<Csg>(object.shape);
+    });
 }
 
 bool Scene::has_transparency() const {
-    return any_leaf(objects, [this](const Object& leaf) { return materials[leaf.material].transmission > 0; }) ||
-           std::any_of(meshes.begin(), meshes.end(),
-                       [this](const Mesh& mesh) { return materials[mesh.material].transmission > 0; });
+    return any_material_used(*this, [](const Material& material) { return material.transmission > 0; });
 }
 
 bool Scene::has_reflection() const {
-    return any_leaf(objects, [this](const Object& leaf) { return materials[leaf.material].reflection > 0; }) ||
-           std::any_of(meshes.begin(), meshes.end(),
-                       [this](const Mesh& mesh) { return materials[mesh.material].reflection > 0; });
+    return any_material_used(*this, [](const Material& material) { return material.reflection > 0; });
 }
 
 std::size_t Scene::primitive_count() const {
@@ -66,7 +77,26 @@ std::size_t Scene::primitive_count() const {
     for (const MeshShape& shape : mesh_shapes) {
         count += shape.data->triangles.size();
     }
+    for (const SolidShape& shape : solid_shapes) {
+        count += shape.part_paths.size();
+    }
     return count;
+}
+
+const SolidInstance* Scene::solid_instance_of_leaf(int leaf) const {
+    const auto found =
+        std::lower_bound(solid_instances.begin(), solid_instances.end(), leaf,
+                         [](const SolidInstance& instance, int wanted) { return instance.leaf < wanted; });
+    return found != solid_instances.end() && found->leaf == leaf ? &*found : nullptr;
+}
+
+int Scene::material_of(int leaf, int part) const {
+    if (part >= 0) {
+        if (const SolidInstance* instance = solid_instance_of_leaf(leaf)) {
+            return instance->material_of(solid_shapes[static_cast<std::size_t>(instance->placement.shape)], part);
+        }
+    }
+    return leaf_materials[static_cast<std::size_t>(leaf)];
 }
 
 const Mesh* Scene::mesh_of_leaf(int leaf) const {
@@ -148,8 +178,12 @@ bool LeafPaths::operator==(const std::vector<std::string>& paths) const {
     return true;
 }
 
-std::string Scene::leaf_name(int leaf) const {
+std::string Scene::leaf_name(int leaf, int part) const {
     const std::string path = leaf_paths[static_cast<std::size_t>(leaf)];
+    if (const SolidInstance* instance = solid_instance_of_leaf(leaf)) {
+        const SolidShape& shape = solid_shapes[static_cast<std::size_t>(instance->placement.shape)];
+        return path + " (" + (part >= 0 ? shape.part_paths[static_cast<std::size_t>(part)] : shape.name) + ")";
+    }
     const Mesh* mesh = mesh_of_leaf(leaf);
     if (mesh == nullptr || !mesh->placement) {
         return path;

@@ -152,7 +152,7 @@ struct MeshData {
 struct Placement {
     math::Matrix3<double> linear;
     Vec3 translation;
-    int shape;  // index into Scene::mesh_shapes
+    int shape;  // index into Scene::mesh_shapes, or for a SolidInstance into Scene::solid_shapes
 
     Transform transform() const { return {linear, math::inverse_of(linear), translation}; }
 };
@@ -175,6 +175,31 @@ struct MeshShape {
     std::shared_ptr<const MeshData> data;
     int material = -1;
     bool name_begins_with_file = false;  // a glTF file's mesh, named after the file
+};
+
+// A shape of `shapes` that holds several primitives (a CSG tree), read once in its own space for the instances that
+// place it at the top level of `objects` (an instance inside a CSG tree reads its shape where it stands). Its
+// primitives are its parts, numbered from 0 in document order (Object::leaf): a hit on an instance names the instance's
+// leaf and the part. A part's material is -1 where neither it nor a CSG ancestor in the shape names one, so that the
+// instance's applies.
+struct SolidShape {
+    std::string name;  // "shapes.cup"
+    Object tree;
+    std::vector<std::string> part_paths;  // "shapes.cup.children[1]"
+    std::vector<int> part_materials;
+};
+
+// An instance of a solid shape: one leaf, counted one towards the primitive limit (its shape's parts count once).
+// `material`: where a part names none.
+struct SolidInstance {
+    Placement placement;
+    int material = 0;
+    int leaf = -1;
+
+    int material_of(const SolidShape& shape, int part) const {
+        const int own = shape.part_materials[static_cast<std::size_t>(part)];
+        return own >= 0 ? own : material;
+    }
 };
 
 // Every leaf's path: a top-level element's, "objects[k]" as the loader writes it, in 4 bytes (k alone), any other in
@@ -219,24 +244,35 @@ struct Scene {
     std::vector<Mesh> meshes;
     // The mesh shapes that instances place (Mesh::shape): each counted towards the primitive limit once.
     std::vector<MeshShape> mesh_shapes;
+    // The solid shapes top-level instances place, each counted once, and those instances, in file order.
+    std::vector<SolidShape> solid_shapes;
+    std::vector<SolidInstance> solid_instances;
     // The stable id of every primitive: its index path in the file, e.g. "objects[4].children[1]".
     LeafPaths leaf_paths;
 
-    bool has_csg() const;
+    bool has_csg() const;  // solid instances included
     bool has_meshes() const { return !meshes.empty(); }
     bool has_instances() const { return !mesh_shapes.empty(); }
     // What the primitive limit counts: every leaf but a mesh, each of a mesh's triangles, an instance of a mesh
-    // shape once, and the triangles of each mesh shape once.
+    // shape or of a solid shape once, and the triangles or parts of each shape once.
     std::size_t primitive_count() const;
     bool has_transparency() const;
     bool has_reflection() const;
-    const Material& material_of_leaf(int leaf) const { return materials[leaf_materials[leaf]]; }
+    // On an instance of a solid shape, its `part`'s.
+    const Material& material_of_leaf(int leaf, int part = -1) const {
+        return materials[static_cast<std::size_t>(material_of(leaf, part))];
+    }
     // The mesh or instance whose leaf this is, or null (meshes are in leaf order, as the loader reads them).
     const Mesh* mesh_of_leaf(int leaf) const;
+    // The instance of a solid shape whose leaf this is, or null.
+    const SolidInstance* solid_instance_of_leaf(int leaf) const;
+    // The material of what a hit names: a leaf's, or on an instance of a solid shape its `part`'s.
+    int material_of(int leaf, int part) const;
     // What a hit names: the leaf's path, and for an instance of a mesh shape the shape it places,
     // "objects[4] (shapes.tree)", "objects[3] node \"Wheel\" (truck.gltf mesh 2)". Only an instance's path is held,
     // so that a million of them fit in short strings.
-    std::string leaf_name(int leaf) const;
+    // On an instance of a solid shape, the part's: "objects[6] (shapes.cup.children[1])".
+    std::string leaf_name(int leaf, int part = -1) const;
 
     // Filled by the loader beside leaf_paths: leaf index -> material index.
     std::vector<int> leaf_materials;

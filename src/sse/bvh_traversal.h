@@ -258,6 +258,21 @@ public:
         }
     }
     bool overflowed() const { return overflowed_; }
+    // Whether a leaf's items might not all fit: a walk whose answer does not depend on the order the objects are
+    // folded in (the least (t, leaf) of a nearest hit, an opaque shadow ray's blocking) folds those held now
+    // (fold_held), so that it never falls back to brute force. At a million instances of a CSG shape a packet can
+    // pass by far more than `capacity` boxes, and brute force then tested every object's bound.
+    bool nearly_full() const { return count_ > capacity - static_cast<int>(primitive_bvh_costs.max_leaf_items); }
+    // visit(object) for the objects added so far, in ascending index, which are then forgotten; the unbounded ones
+    // are for for_each.
+    template <typename Visit>
+    void fold_held(const CompiledScene& scene, Visit&& visit) {
+        std::sort(indices_, indices_ + count_);
+        for (int i = 0; i < count_; ++i) {
+            visit(scene.csg_objects[indices_[i]]);
+        }
+        count_ = 0;
+    }
 
     template <typename Visit>
     void for_each(const CompiledScene& scene, Visit&& visit) {

@@ -46,8 +46,9 @@ struct LeafApart {
 };
 
 // Appends a primitive to the list of its type (at top level, or inside one CSG object); returns where it went.
+// `apart`, if given, receives its leaf's entry where its record does not give its surface back.
 BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::int32_t id, float transmission,
-                      std::vector<LeafApart>& apart) {
+                      std::vector<LeafApart>* apart) {
     BvhItem added{};
     std::visit(
         [&](const auto& shape) {
@@ -59,8 +60,8 @@ BvhItem add_primitive(PrimitiveLists& lists, const scene::Object& object, std::i
                 list.ids.push_back(id);
                 list.transmission.push_back(transmission);
                 const SurfaceOf<S> surface = make_surface(shape);
-                if (!gives_back(list.items.back(), surface)) {
-                    apart.push_back({object.leaf, {surface, object.material}});
+                if (apart != nullptr && !gives_back(list.items.back(), surface)) {
+                    apart->push_back({object.leaf, {surface, object.material}});
                 }
             }
         },
@@ -134,12 +135,19 @@ public:
                                      static_cast<float>(m.reflection), static_cast<float>(m.transmission),
                                      static_cast<float>(m.ior)});
         }
+        // The leaves of instances, which the leaf table leaves out: their records name their hits.
         std::vector<std::int32_t> instance_leaves;
+        std::size_t mesh_instances = 0;
         for (const scene::Mesh& mesh : scene_.meshes) {
             if (mesh.placement) {
                 instance_leaves.push_back(mesh.leaf);
+                ++mesh_instances;
             }
         }
+        for (const scene::SolidInstance& instance : scene_.solid_instances) {
+            instance_leaves.push_back(instance.leaf);
+        }
+        std::sort(instance_leaves.begin(), instance_leaves.end());
         // Reserved, not grown: a million primitives would otherwise be copied some twenty times over.
         scene::PrimitiveTypes::for_each([&](auto type) {
             using S = typename decltype(type)::type;
@@ -147,6 +155,12 @@ public:
                 std::count_if(scene_.objects.begin(), scene_.objects.end(),
                               [](const scene::Object& object) { return std::holds_alternative<S>(object.shape); })));
         });
+        std::vector<scene::Bounds> solid_bounds;
+        for (const scene::SolidShape& shape : scene_.solid_shapes) {
+            out.solids.push_back(compile_solid(shape));
+            solid_bounds.push_back(scene::bounds(shape.tree));
+        }
+        out.solid_instances.reserve(scene_.solid_instances.size());
         std::vector<double> shape_costs;
         std::vector<scene::Bounds> shape_bounds;
         for (const scene::MeshShape& shape : scene_.mesh_shapes) {
@@ -163,24 +177,37 @@ public:
             for (const scene::Mesh& mesh : scene_.meshes) {
                 mesh_items += mesh.placement ? 1 : mesh.data->triangles.size();
             }
-            bounded.reserve(scene_.objects.size() + mesh_items);
+            bounded.reserve(scene_.objects.size() + scene_.solid_instances.size() + mesh_items);
         }
         std::vector<BvhItem> unbounded;
         for (const scene::Object& object : scene_.objects) {
             BvhItem item;
             scene::Bounds bounds;
             if (const auto* csg = std::get_if<scene::Csg>(&object.shape)) {
-                CsgObject compiled;
-                add_csg_node(compiled, *csg, out);
-                scene::Box bound = as_float_safe_box(scene::bounds(object));
-                compiled.bound = make_shape(bound);
-                item = {csg_list, static_cast<std::uint32_t>(out.csg_objects.size())};
-                bounds = {bound.min, bound.max};
-                out.csg_objects.push_back(std::move(compiled));
+                auto tree = std::make_shared<CsgTree>();
+                add_csg_node(*tree, *csg, &apart_);
+                bounds = add_csg_object(out, std::move(tree), scene::bounds(object), -1, item);
             } else {
-                item = add_primitive(out.primitives, object, object.leaf, transmission_of(object), apart_);
+                item = add_primitive(out.primitives, object, object.leaf, transmission_of(object), &apart_);
                 bounds = scene::bounds(object);
             }
+            if (!is_finite(bounds)) {
+                unbounded.push_back(item);
+            } else if (with_bvh) {
+                bounded.emplace_back(bounds, item);
+            }
+        }
+        for (std::size_t i = 0; i < scene_.solid_instances.size(); ++i) {
+            const scene::SolidInstance& instance = scene_.solid_instances[i];
+            const auto shape = static_cast<std::size_t>(instance.placement.shape);
+            const scene::Transform to_world = instance.placement.transform();
+            out.solid_instances.push_back({math::Transform<float>::from(to_world),
+                                           scene::transform_norms<float>(to_world), static_cast<std::uint32_t>(shape),
+                                           instance.leaf, instance.material, math::determinant(to_world.linear) < 0});
+            BvhItem item;
+            const scene::Bounds bounds =
+                add_csg_object(out, out.solids[shape].tree, scene::placed_bounds(solid_bounds[shape], to_world),
+                               static_cast<std::int32_t>(i), item);
             if (!is_finite(bounds)) {
                 unbounded.push_back(item);
             } else if (with_bvh) {
@@ -211,7 +238,7 @@ public:
         }
         add_leaf_table(out, instance_leaves);
         // After the build, which keeps their order: its arrays and a million records (116 MB) are never held at once.
-        add_instances(out, instance_leaves.size());
+        add_instances(out, mesh_instances);
         // No mesh is read again: the scene's (136 bytes an instance) go before the boxes come.
         give_up(&scene::Scene::meshes);
         add_instance_boxes(out);
@@ -235,8 +262,12 @@ private:
         add_leaves_from_records(out.leaves, out.primitives, scene_.leaf_materials,
                                 [](std::int32_t leaf) { return leaf; });
         for (const CsgObject& csg : out.csg_objects) {
-            add_leaves_from_records(out.leaves, csg.leaves, scene_.leaf_materials,
-                                    [&](std::int32_t slot) { return csg.slot_leaf[static_cast<std::size_t>(slot)]; });
+            if (csg.instance < 0) {
+                const CsgTree& tree = *csg.tree;
+                add_leaves_from_records(out.leaves, tree.leaves, scene_.leaf_materials, [&](std::int32_t slot) {
+                    return tree.slot_leaf[static_cast<std::size_t>(slot)];
+                });
+            }
         }
         for (const LeafApart& kept : apart_) {
             out.leaves[static_cast<std::size_t>(kept.leaf)] = kept.entry;
@@ -290,6 +321,10 @@ private:
                 cost +=
                     brute_force_cost(object) + (std::holds_alternative<scene::Csg>(object.shape) ? csg_object_cost : 0);
             }
+        }
+        for (const scene::SolidInstance& instance : scene_.solid_instances) {
+            const scene::SolidShape& shape = scene_.solid_shapes[static_cast<std::size_t>(instance.placement.shape)];
+            cost += transformed_trip_cost + brute_force_cost(shape.tree) + csg_object_cost;
         }
         std::size_t triangles = 0;
         for (const scene::Mesh& mesh : scene_.meshes) {
@@ -533,25 +568,63 @@ private:
         return static_cast<float>(scene_.materials[static_cast<std::size_t>(object.material)].transmission);
     }
 
-    // Nodes are laid out so that a node's children are contiguous in children_of.
-    int add_csg_node(CsgObject& compiled, const scene::Csg& csg, CompiledScene& out) {
-        int index = static_cast<int>(compiled.nodes.size());
-        compiled.nodes.push_back({csg.op, 0, static_cast<int>(csg.children.size()), -1});
+    // Nodes are laid out so that a node's children are contiguous in children_of. `apart`: where the leaves whose
+    // records do not give back their surfaces go, for the leaf table; null for a solid shape, whose parts' surfaces
+    // compile_solid makes.
+    int add_csg_node(CsgTree& tree, const scene::Csg& csg, std::vector<LeafApart>* apart) {
+        int index = static_cast<int>(tree.nodes.size());
+        tree.nodes.push_back({csg.op, 0, static_cast<int>(csg.children.size()), -1});
         std::vector<int> children;
         for (const scene::Object& child : csg.children) {
             if (const auto* inner = std::get_if<scene::Csg>(&child.shape)) {
-                children.push_back(add_csg_node(compiled, *inner, out));
+                children.push_back(add_csg_node(tree, *inner, apart));
             } else {
-                int slot = static_cast<int>(compiled.slot_leaf.size());
-                compiled.slot_leaf.push_back(child.leaf);
-                add_primitive(compiled.leaves, child, slot, transmission_of(child), apart_);
-                children.push_back(static_cast<int>(compiled.nodes.size()));
-                compiled.nodes.push_back({scene::CsgOp::union_, 0, 0, slot});
+                int slot = static_cast<int>(tree.slot_leaf.size());
+                tree.slot_leaf.push_back(child.leaf);
+                // A CSG leaf's transmission is read from its material at each crossing, never from its list.
+                add_primitive(tree.leaves, child, slot, 0.0f, apart);
+                children.push_back(static_cast<int>(tree.nodes.size()));
+                tree.nodes.push_back({scene::CsgOp::union_, 0, 0, slot});
             }
         }
-        compiled.nodes[static_cast<std::size_t>(index)].first_child = static_cast<int>(compiled.children_of.size());
-        compiled.children_of.insert(compiled.children_of.end(), children.begin(), children.end());
+        tree.nodes[static_cast<std::size_t>(index)].first_child = static_cast<int>(tree.children_of.size());
+        tree.children_of.insert(tree.children_of.end(), children.begin(), children.end());
+        tree.uses_inverse_direction = tree.leaves.any_uses_inverse_direction();
         return index;
+    }
+
+    // A CSG object of `tree` within `bounds` (in the world, made safe for float), added to out.csg_objects as `item`;
+    // returns the bounds the BVH is to hold.
+    static scene::Bounds add_csg_object(CompiledScene& out, std::shared_ptr<const CsgTree> tree,
+                                        const scene::Bounds& bounds, std::int32_t instance, BvhItem& item) {
+        const scene::Box bound = as_float_safe_box(bounds);
+        item = {csg_list, static_cast<std::uint32_t>(out.csg_objects.size())};
+        out.csg_objects.push_back({std::move(tree), make_shape(bound), instance});
+        return {bound.min, bound.max};
+    }
+
+    // A solid shape in its own space: its tree (slots naming parts) and each part's surface and material.
+    CompiledSolid compile_solid(const scene::SolidShape& shape) {
+        auto tree = std::make_shared<CsgTree>();
+        add_csg_node(*tree, std::get<scene::Csg>(shape.tree.shape), nullptr);
+        CompiledSolid solid{std::move(tree), std::vector<Leaf>(shape.part_paths.size())};
+        add_part_surfaces(shape.tree, solid.parts);
+        return solid;
+    }
+
+    static void add_part_surfaces(const scene::Object& object, std::vector<Leaf>& parts) {
+        std::visit(
+            [&](const auto& shape) {
+                using S = std::decay_t<decltype(shape)>;
+                if constexpr (scene::is_primitive<S>) {
+                    parts[static_cast<std::size_t>(object.leaf)] = {make_surface(shape), object.material};
+                } else {
+                    for (const scene::Object& child : shape.children) {
+                        add_part_surfaces(child, parts);
+                    }
+                }
+            },
+            object.shape);
     }
 
     scene::Vec3 origin_;

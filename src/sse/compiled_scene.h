@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <tuple>
 #include <type_traits>
 #include <utility>
@@ -135,11 +136,11 @@ struct CompiledShape {
 
 // An instance of a compiled shape (120 bytes): its transform, relative to the compiled scene's origin, and the
 // norms its hits' rounding bounds need (scene::transformed_spawn_offset). A walk reads L⁻¹ and t. Its leaf has no
-// entry in CompiledScene::leaves: its material is here.
+// entry in CompiledScene::leaves: its material is here (for a solid shape, where a part names none).
 struct InstanceRecord {
     math::Transform<float> to_world;
     scene::TransformNorms<float> norms;
-    std::uint32_t shape;  // index into CompiledScene::shapes
+    std::uint32_t shape;  // index into CompiledScene::shapes, or for a solid shape's instance into ::solids
     std::int32_t leaf;
     std::int32_t material;
     bool mirrors;  // det L < 0: a triangle's front turns (scene.h)
@@ -205,17 +206,28 @@ private:
 
 struct CsgNode {
     scene::CsgOp op;
-    int first_child;  // index into CsgObject::children_of
+    int first_child;  // index into CsgTree::children_of
     int child_count;
     int slot;  // >= 0: a leaf, its slot in the object's leaf spans; -1: an operation
 };
 
-struct CsgObject {
+// A CSG tree compiled for four rays: a top-level object's in the world, or a solid shape's in its own space, shared
+// by the shape's instances.
+struct CsgTree {
     PrimitiveLists leaves;                // ids are slots
-    std::vector<std::int32_t> slot_leaf;  // slot -> global leaf index
+    std::vector<std::int32_t> slot_leaf;  // slot -> global leaf index, or a solid shape's part
     std::vector<CsgNode> nodes;           // nodes[0] is the root
     std::vector<int> children_of;         // child node indices, grouped per node
-    BoxShape bound;                       // axis-aligned, ±∞ where a half-space leaves it unbounded
+    bool uses_inverse_direction = false;  // some leaf is a box
+};
+
+// A top-level CSG object, or an instance of a solid shape (`instance` >= 0: its record in
+// CompiledScene::solid_instances, whose tree is its shape's and whose crossings name the instance's leaf and the
+// part). 112 bytes beside the tree.
+struct CsgObject {
+    std::shared_ptr<const CsgTree> tree;
+    BoxShape bound;  // in the world, axis-aligned, ±∞ where a half-space leaves it unbounded
+    std::int32_t instance = -1;
 };
 
 // What the normal of a hit and its re-projection onto the surface need, per leaf (looked up once per
@@ -277,6 +289,13 @@ private:
     std::vector<Run> runs_;
 };
 
+// A solid shape (scene::SolidShape) compiled once for its instances, in its own space: its tree, and each part's
+// surface there and material (-1 where the instance's applies).
+struct CompiledSolid {
+    std::shared_ptr<const CsgTree> tree;
+    std::vector<Leaf> parts;
+};
+
 struct Material {
     Color color;
     float ambient, diffuse, phong, phong_size, reflection, transmission, ior;
@@ -306,6 +325,10 @@ struct CompiledScene {
     // One per instance: with a BVH in the order of its leaves (an instance's BvhItem::index is its place here), else
     // in file order.
     LargeArray<InstanceBox> instance_boxes;
+    // The solid shapes and their instances (InstanceRecord::shape indexes `solids`), in file order; each instance
+    // is also a CSG object.
+    std::vector<CompiledSolid> solids;
+    LargeArray<InstanceRecord> solid_instances;
     // With a BVH (its nodes not empty), the bounded primitives and CSG objects are found through it and only
     // the rest (planes, unbounded CSG objects) are tested by every ray.
     Bvh bvh;

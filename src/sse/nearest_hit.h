@@ -37,8 +37,12 @@ struct Nearest4 {
     vint4 place{-1};
     vint4 triangle{-1};
     // An instance's hit: its index in CompiledScene::instances; -1 for a mesh's triangle, and left stale where a
-    // primitive's crossing (keep_nearest, which spends nothing on it) replaced it: the record's leaf tells.
+    // primitive's crossing (keep_nearest, which spends nothing on it) replaced it: the record's leaf tells. On an
+    // instance of a solid shape (part >= 0), its index in CompiledScene::solid_instances.
     vint4 instance{-1};
+    // On an instance of a solid shape, the part hit. Set only by the CSG objects' fold and left stale where a later
+    // crossing of a primitive replaced it: the solid instance record's leaf tells, as for `instance`.
+    vint4 part{-1};
 };
 
 // A primitive's first crossing after t = 0 is its enter if that lies ahead, else its exit. Smaller t
@@ -114,31 +118,60 @@ void for_each_span(const PrimitiveLists& lists, const RayPacket& rays, Visit&& v
 }
 
 // A CSG object's span list for one lane of a packet: every leaf's span computed for the whole packet
-// (four rays per instruction), then the tree folded bottom-up per ray in stack arrays.
+// (four rays per instruction), then the tree folded bottom-up per ray in stack arrays. An instance of a solid shape
+// folds its shape's tree along the rays carried into the shape's space (unit_object_rays), t brought back; its spans'
+// crossings name parts (named()).
 template <typename P>
 class CsgEvaluation {
 public:
-    CsgEvaluation(const CsgObject& object, const RayPacket& rays) : object_(object) {
-        std::fill(valid_, valid_ + object.slot_leaf.size(), 0);  // leaves no ray meets are not visited
-        for_each_span<P>(object.leaves, rays, [&](const Span4& span, std::int32_t slot, float, std::uint32_t) {
-            span.enter.store(enter_[slot]);
-            span.exit.store(exit_[slot]);
+    CsgEvaluation(const CompiledScene& scene, const CsgObject& object, const RayPacket& rays) : tree_(*object.tree) {
+        std::fill(valid_, valid_ + tree_.slot_leaf.size(), 0);  // leaves no ray meets are not visited
+        if (object.instance < 0) {
+            add_spans(rays, nullptr);
+            return;
+        }
+        const InstanceRecord& record = scene.solid_instances[static_cast<std::size_t>(object.instance)];
+        instance_leaf_ = record.leaf;
+        math::Matrix3<vfloat4> inverse;
+        for (int i = 0; i < 3; ++i) {
+            inverse.row[i] = broadcast(record.to_world.inverse.row[i]);
+        }
+        UnitObjectRays object_rays = unit_object_rays<P>(inverse, broadcast(record.to_world.translation), rays);
+        if (tree_.uses_inverse_direction) {
+            object_rays.rays.template compute_inverse_direction<P>();
+        }
+        add_spans(object_rays.rays, &object_rays.shrink);
+    }
+
+    void evaluate(int lane, SpanArray& out) const { evaluate(lane, 0, out); }
+
+    // What a crossing of the spans names: a leaf, or on an instance of a solid shape the instance's leaf and the part.
+    struct Named {
+        std::int32_t leaf, part;
+    };
+    Named named(const Crossing& crossing) const {
+        return instance_leaf_ < 0 ? Named{crossing.leaf, -1} : Named{instance_leaf_, crossing.leaf};
+    }
+
+private:
+    // `shrink`, for rays carried into a shape's space, brings each t back to the world's.
+    void add_spans(const RayPacket& rays, const vfloat4* shrink) {
+        for_each_span<P>(tree_.leaves, rays, [&](const Span4& span, std::int32_t slot, float, std::uint32_t) {
+            (shrink != nullptr ? span.enter * *shrink : span.enter).store(enter_[slot]);
+            (shrink != nullptr ? span.exit * *shrink : span.exit).store(exit_[slot]);
             span.enter_face.store(enter_face_[slot]);
             span.exit_face.store(exit_face_[slot]);
             valid_[slot] = movemask(span.valid);
         });
     }
 
-    void evaluate(int lane, SpanArray& out) const { evaluate(lane, 0, out); }
-
-private:
     void evaluate(int lane, int node_index, SpanArray& out) const {
-        const CsgNode& node = object_.nodes[static_cast<std::size_t>(node_index)];
+        const CsgNode& node = tree_.nodes[static_cast<std::size_t>(node_index)];
         if (node.slot >= 0) {
             out.clear();
             int slot = node.slot;
             if ((valid_[slot] >> lane) & 1) {
-                std::int32_t leaf = object_.slot_leaf[static_cast<std::size_t>(slot)];
+                std::int32_t leaf = tree_.slot_leaf[static_cast<std::size_t>(slot)];
                 float enter = enter_[slot][lane];
                 float exit = exit_[slot][lane];
                 out.push({enter, std::isinf(enter) ? -1 : leaf, enter_face_[slot][lane]},
@@ -146,7 +179,7 @@ private:
             }
             return;
         }
-        const int* children = &object_.children_of[static_cast<std::size_t>(node.first_child)];
+        const int* children = &tree_.children_of[static_cast<std::size_t>(node.first_child)];
         SpanArray operand, scratch, other;
         SpanArray* accumulated = &out;
         SpanArray* combined = &other;
@@ -161,7 +194,8 @@ private:
         }
     }
 
-    const CsgObject& object_;
+    const CsgTree& tree_;
+    std::int32_t instance_leaf_ = -1;
     alignas(16) float enter_[scene::max_csg_leaves][4];
     alignas(16) float exit_[scene::max_csg_leaves][4];
     alignas(16) std::int32_t enter_face_[scene::max_csg_leaves][4];
@@ -183,6 +217,7 @@ struct Hit4 {
     Vec3x4 normal;  // unit, facing the ray: the geometric normal, which decides sides and spawn offsets
     vint4 leaf;
     vint4 triangle;  // on a mesh, the triangle's index in it; else -1
+    vint4 part;      // on an instance of a solid shape, the part hit; else -1
     vint4 material;  // index into CompiledScene::materials
     vbool4 entering;
     vfloat4 spawn_offset;  // how far off the surface secondary rays start
@@ -230,6 +265,9 @@ public:
                 if (!instances.empty()) {
                     enter_nearest_first(rays, nearest, instances);
                 }
+                if (csg.nearly_full()) {
+                    nearest_csg_crossings(rays, nearest, [&](auto&& visit) { csg.fold_held(scene_, visit); });
+                }
             });
         } else {
             if (sheared) {
@@ -243,7 +281,7 @@ public:
             }
         }
         if (!scene_.csg_objects.empty()) {
-            nearest_csg_crossings(rays, nearest, csg);
+            nearest_csg_crossings(rays, nearest, [&](auto&& visit) { csg.for_each(scene_, visit); });
             if (fallbacks != nullptr && csg.overflowed()) {
                 fallbacks->csg_candidates = true;
             }
@@ -262,7 +300,7 @@ public:
         }
         struct Crossed {
             float t;
-            std::int32_t leaf, tag, place, triangle, instance;
+            std::int32_t leaf, tag, place, triangle, instance, part = -1;
         };
         std::vector<Crossed> crossed;
         auto ahead = [distance](float t) { return t > 0.0f && t < distance; };
@@ -329,10 +367,12 @@ public:
         }
         csg.for_each(scene_, [&](const CsgObject& object) {
             SpanArray spans;
-            CsgEvaluation<P>(object, rays).evaluate(0, spans);
+            const CsgEvaluation<P> evaluation(scene_, object, rays);
+            evaluation.evaluate(0, spans);
             auto add_end = [&](const Crossing& end, std::int32_t entering) {
                 if (end.leaf >= 0 && ahead(end.t)) {
-                    crossed.push_back({end.t, end.leaf, end.tag | entering, -1, -1, -1});
+                    const auto named = evaluation.named(end);
+                    crossed.push_back({end.t, named.leaf, end.tag | entering, -1, -1, object.instance, named.part});
                 }
             };
             for (int i = 0; i < spans.count; ++i) {
@@ -341,7 +381,10 @@ public:
             }
         });
         std::stable_sort(crossed.begin(), crossed.end(), [](const Crossed& a, const Crossed& b) {
-            return a.t < b.t || (a.t == b.t && (a.leaf < b.leaf || (a.leaf == b.leaf && a.triangle < b.triangle)));
+            return a.t < b.t ||
+                   (a.t == b.t &&
+                    (a.leaf < b.leaf ||
+                     (a.leaf == b.leaf && (a.triangle < b.triangle || (a.triangle == b.triangle && a.part < b.part)))));
         });
         for (const Crossed& crossing : crossed) {
             Nearest4 one;
@@ -351,6 +394,7 @@ public:
             one.place = vint4(crossing.place);
             one.triangle = vint4(crossing.triangle);
             one.instance = vint4(crossing.instance);
+            one.part = vint4(crossing.part);
             visit(finish(rays, one));
         }
     }
@@ -410,19 +454,23 @@ private:
 
     // Per lane: CSG objects whose bound the ray meets before its nearest hit so far. With a BVH, the
     // candidates are the objects whose box some lane met before its nearest primitive: a superset of those
-    // whose bound passes the test below, so the same objects change the answer.
-    void nearest_csg_crossings(const RayPacket& rays, Nearest4& nearest, CsgCandidates& candidates) const {
+    // whose bound passes the test below, so the same objects change the answer. `for_each_candidate(visit)` visits
+    // them (all at once, or those held so far): the least (t, leaf) does not depend on the order.
+    template <typename ForEachCandidate>
+    void nearest_csg_crossings(const RayPacket& rays, Nearest4& nearest, ForEachCandidate&& for_each_candidate) const {
         alignas(16) float t[4];
-        alignas(16) std::int32_t leaf[4], tag[4];
+        alignas(16) std::int32_t leaf[4], tag[4], instance[4], part[4];
         nearest.t.store(t);
         nearest.leaf.store(leaf);
         nearest.tag.store(tag);
-        candidates.for_each(scene_, [&](const CsgObject& object) {
+        nearest.instance.store(instance);
+        nearest.part.store(part);
+        for_each_candidate([&](const CsgObject& object) {
             int lanes = lanes_meeting_bound<P>(object, rays, vfloat4::load(t));
             if (lanes == 0) {
                 return;
             }
-            CsgEvaluation<P> evaluation(object, rays);
+            CsgEvaluation<P> evaluation(scene_, object, rays);
             for (int lane = 0; lane < 4; ++lane) {
                 if (((lanes >> lane) & 1) == 0) {
                     continue;
@@ -435,11 +483,14 @@ private:
                     if (!(crossing.t > 0.0f)) {
                         continue;
                     }
+                    const auto named = evaluation.named(crossing);
                     if (crossing.leaf >= 0 &&
-                        (crossing.t < t[lane] || (crossing.t == t[lane] && crossing.leaf < leaf[lane]))) {
+                        (crossing.t < t[lane] || (crossing.t == t[lane] && named.leaf < leaf[lane]))) {
                         t[lane] = crossing.t;
-                        leaf[lane] = crossing.leaf;
+                        leaf[lane] = named.leaf;
                         tag[lane] = crossing.tag | (entering ? tag_entering : 0);
+                        instance[lane] = object.instance;
+                        part[lane] = named.part;
                     }
                     break;
                 }
@@ -448,6 +499,8 @@ private:
         nearest.t = vfloat4::load(t);
         nearest.leaf = vint4::load(leaf);
         nearest.tag = vint4::load(tag);
+        nearest.instance = vint4::load(instance);
+        nearest.part = vint4::load(part);
     }
 
     // The surface of each lane's hit from its primitive's header (outward_normal, surface_anchor): the
@@ -458,16 +511,26 @@ private:
         SurfaceAnchor anchor;
     };
 
-    static LaneSurface lane_surface(const Leaf& leaf, std::int32_t tag, Vec3 point) {
+    // `placed`, if given, is the instance whose solid shape's part `leaf` is: the part's surface is then in the
+    // shape's space, under the instance's transform.
+    static LaneSurface lane_surface(const Leaf& leaf, std::int32_t tag, Vec3 point,
+                                    const InstanceRecord* placed = nullptr) {
         LaneSurface out;
         std::int32_t face = tag & tag_face_mask;
         bool flipped = (tag & tag_flipped) != 0;
+        auto from = [&](const auto& surface) {
+            out.outward = outward_normal(surface, face, point, out.needs_normalizing);
+            out.anchor = surface_anchor(surface, face, flipped ? -1.0f : 1.0f, point);
+        };
         std::visit(
             [&](const auto& surface) {
                 using Surface = std::decay_t<decltype(surface)>;
                 if constexpr (!std::is_same_v<Surface, MeshSurface>) {
-                    out.outward = outward_normal(surface, face, point, out.needs_normalizing);
-                    out.anchor = surface_anchor(surface, face, flipped ? -1.0f : 1.0f, point);
+                    if (placed != nullptr) {
+                        from(PlacedPartSurface<Surface>(surface, placed->to_world, placed->norms));
+                    } else {
+                        from(surface);
+                    }
                 }
             },
             leaf.surface);
@@ -622,6 +685,14 @@ private:
         return math::dot(unit, facing) < 0.0f ? -unit : unit;
     }
 
+    // Whether records[index] is the instance whose leaf a lane's nearest hit names: Nearest4's instance and part are
+    // left stale where a primitive's crossing replaced an instance's (and an index may be a mesh instance's or a
+    // solid one's), but leaves are unique.
+    static bool names(const LargeArray<InstanceRecord>& records, std::int32_t index, std::int32_t leaf) {
+        return index >= 0 && static_cast<std::size_t>(index) < records.size() &&
+               records[static_cast<std::size_t>(index)].leaf == leaf;
+    }
+
     Hit4 finish(const RayPacket& rays, const Nearest4& nearest) const {
         Hit4 hit;
         hit.hit = rays.active & !(nearest.leaf == vint4(-1));
@@ -643,8 +714,9 @@ private:
         nearest.leaf.store(leaf);
         nearest.tag.store(tag);
         nearest.place.store(place);
-        alignas(16) std::int32_t instance[4];
+        alignas(16) std::int32_t instance[4], part[4], part_hit[4] = {-1, -1, -1, -1};
         nearest.instance.store(instance);
+        nearest.part.store(part);
         int lanes = movemask(hit.hit);
         const CompiledMesh* smooth[4] = {};
         const InstanceRecord* smooth_instance[4] = {};
@@ -653,8 +725,13 @@ private:
             LaneSurface surface;
             if ((lanes >> lane) & 1) {
                 Vec3 lane_point{point[0][lane], point[1][lane], point[2][lane]};
-                if (instance[lane] >= 0 &&
-                    scene_.instances[static_cast<std::size_t>(instance[lane])].leaf == leaf[lane]) {
+                if (part[lane] >= 0 && names(scene_.solid_instances, instance[lane], leaf[lane])) {
+                    const InstanceRecord& record = scene_.solid_instances[static_cast<std::size_t>(instance[lane])];
+                    const Leaf& info = scene_.solids[record.shape].parts[static_cast<std::size_t>(part[lane])];
+                    material[lane] = info.material >= 0 ? info.material : record.material;
+                    surface = lane_surface(info, tag[lane], lane_point, &record);
+                    part_hit[lane] = part[lane];
+                } else if (names(scene_.instances, instance[lane], leaf[lane])) {
                     const InstanceRecord& record = scene_.instances[static_cast<std::size_t>(instance[lane])];
                     const auto at = static_cast<std::uint32_t>(place[lane]);
                     const CompiledShape& shape = scene_.shapes[record.shape];
@@ -731,6 +808,7 @@ private:
         vbool4 facing_away = dot<P>(outward, direction) > vfloat4(0.0f);
         hit.normal = select(mutated<Mutant::normal_faces_away> ? !facing_away : facing_away, -outward, outward);
         hit.triangle = vint4::load(triangle);
+        hit.part = vint4::load(part_hit);
         hit.material = vint4::load(material);
         hit.shading_normal = hit.normal;
         if (smooth[0] != nullptr || smooth[1] != nullptr || smooth[2] != nullptr || smooth[3] != nullptr ||

@@ -26,11 +26,12 @@ inline Vec3d lane0_in_world(const Vec3x4& point, const scene::Vec3& origin) {
     }
     int index = tree.add(kind, depth, parent, lane0_in_world(rays.origin, origin), lane0(rays.direction));
     if (movemask(hit.hit) & 1) {
-        alignas(16) std::int32_t leaf[4], triangle[4];
+        alignas(16) std::int32_t leaf[4], triangle[4], part[4];
         hit.leaf.store(leaf);
         hit.triangle.store(triangle);
-        tree.set_hit(index, leaf[0], triangle[0], static_cast<double>(hit.t.lane(0)), lane0_in_world(hit.point, origin),
-                     lane0(hit.normal), (movemask(hit.entering) & 1) != 0);
+        hit.part.store(part);
+        tree.set_hit(index, leaf[0], triangle[0], part[0], static_cast<double>(hit.t.lane(0)),
+                     lane0_in_world(hit.point, origin), lane0(hit.normal), (movemask(hit.entering) & 1) != 0);
     }
     return index;
 }

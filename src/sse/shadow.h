@@ -134,6 +134,14 @@ public:
                 for_each_leaf_met(scene_.bvh, scene_.bvh.items, box_rays, open, distance, [&](BvhLeaf leaf) {
                     for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle,
                                              [&](std::uint32_t box_place) { block_instance(box_rays, box_place); });
+                    if (csg.nearly_full()) {
+                        // Opaque: whichever object a ray crosses first closes its lane, in any order.
+                        alignas(16) float product[4];
+                        select(open, one, zero).store(product);
+                        multiply_csg(rays, distance, open, product,
+                                     [&](auto&& visit) { csg.fold_held(scene_, visit); });
+                        open = open & (vfloat4::load(product) > zero);
+                    }
                 });
             } else if (scene_.bvh.empty()) {
                 if (sheared && any(open)) {
@@ -233,12 +241,25 @@ public:
         }
         alignas(16) float product[4];
         transmittance.store(product);
-        csg.for_each(scene_, [&](const CsgObject& object) {
+        multiply_csg(rays, distance, open, product, [&](auto&& visit) { csg.for_each(scene_, visit); });
+        if (fallbacks != nullptr && csg.overflowed()) {
+            fallbacks->csg_candidates = true;
+        }
+        return vfloat4::load(product);
+    }
+
+private:
+    // Multiplies product[lane] by the transmission of each surface of the CSG objects `for_each_candidate(visit)`
+    // visits that an `open` lane's ray crosses before `distance`, object after object in the order visited.
+    template <typename ForEachCandidate>
+    void multiply_csg(const RayPacket& rays, vfloat4 distance, vbool4 open, float product[4],
+                      ForEachCandidate&& for_each_candidate) const {
+        for_each_candidate([&](const CsgObject& object) {
             int met = lanes_meeting_bound<P>(object, rays, distance) & movemask(open);
             if (met == 0) {
                 return;
             }
-            CsgEvaluation<P> evaluation(object, rays);
+            CsgEvaluation<P> evaluation(scene_, object, rays);
             alignas(16) float limit[4];
             distance.store(limit);
             for (int lane = 0; lane < 4; ++lane) {
@@ -250,22 +271,24 @@ public:
                 for (int i = 0; i < spans.count; ++i) {
                     for (const Crossing* crossing : {&spans.enter[i], &spans.exit[i]}) {
                         if (crossing->leaf >= 0 && crossing->t > 0.0f && crossing->t < limit[lane]) {
-                            product[lane] *= material_transmission(crossing->leaf);
+                            product[lane] *= object.instance < 0 ? material_transmission(crossing->leaf)
+                                                                 : part_transmission(object.instance, crossing->leaf);
                         }
                     }
                 }
             }
         });
-        if (fallbacks != nullptr && csg.overflowed()) {
-            fallbacks->csg_candidates = true;
-        }
-        return vfloat4::load(product);
     }
 
-private:
     float material_transmission(std::int32_t leaf) const {
         const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf)];
         return scene_.materials[static_cast<std::size_t>(info.material)].transmission;
+    }
+    // A solid shape's part as instance `instance` places it: its own material, else the instance's.
+    float part_transmission(std::int32_t instance, std::int32_t part) const {
+        const InstanceRecord& record = scene_.solid_instances[static_cast<std::size_t>(instance)];
+        const int own = scene_.solids[record.shape].parts[static_cast<std::size_t>(part)].material;
+        return scene_.materials[static_cast<std::size_t>(own >= 0 ? own : record.material)].transmission;
     }
     float transmission_of(const InstanceRecord& instance) const {
         return scene_.materials[static_cast<std::size_t>(instance.material)].transmission;

@@ -59,6 +59,8 @@ Hit lane_0_hit(const CompiledScene& scene, const Hit4& hit4) {
     hit.leaf = lanes[0];
     hit4.triangle.store(lanes);
     hit.triangle = lanes[0];
+    hit4.part.store(lanes);
+    hit.part = lanes[0];
     hit.shading_normal = lane(hit4.shading_normal, 0);
     hit.entering = (movemask(hit4.entering) & 1) != 0;
     hit.spawn_offset = hit4.spawn_offset.lane(0);

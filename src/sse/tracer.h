@@ -36,6 +36,7 @@ struct Hit {
     Vec3 normal;             // unit, facing the ray
     int leaf = -1;           // the primitive hit (Scene::leaf_paths)
     int triangle = -1;       // for a mesh, the triangle's index in it
+    int part = -1;           // on an instance of a solid shape, the shape's primitive hit
     bool entering = false;   // enters the solid; on a mesh, meets a triangle's front
     float spawn_offset = 0;  // how far off the surface secondary rays start
     Vec3 shading_normal;     // `normal`, or on a smooth mesh the interpolated normal turned to its side

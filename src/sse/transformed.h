@@ -49,30 +49,71 @@ auto make_surface(const scene::Transformed<S>& primitive) {
     return TransformedSurface<decltype(inner)>(inner, primitive.to_world());
 }
 
-// As the reference: o' = L⁻¹·(o − t), d' = L⁻¹·d, the primitive's span along d'/|d'|, and t = t'/|d'|. One
-// reciprocal of |d'| serves the three components and both ends (the thesis's shared denominator). Not inlined,
-// unlike the other kernels: inlined, its three instances grew every per-type loop past what GCC inlines into
-// the walks, and scenes without transforms paid 3 % more instructions for it.
+// A packet carried into an object's space for primitives that take a unit direction, as the reference's
+// unit_object_ray: o' = L⁻¹·(o − t) along d'/|d'| with d' = L⁻¹·d, and `shrink` = 1/|d'|, which brings an
+// object-space t back to the world's. One reciprocal of |d'| serves the three components and both ends of a span
+// (the thesis's shared denominator).
+struct UnitObjectRays {
+    RayPacket rays;
+    vfloat4 shrink;
+};
+
+template <typename P>
+UnitObjectRays unit_object_rays(const math::Matrix3<vfloat4>& inverse, const Vec3x4& translation,
+                                const RayPacket& rays) {
+    Vec3x4 origin = mutated<Mutant::transform_order_swapped> ? inverse * rays.origin - translation
+                                                             : inverse * (rays.origin - translation);
+    Vec3x4 direction = inverse * rays.direction;
+    vfloat4 shrink = reciprocal<P>(sqrt(dot<P>(direction, direction)));
+    return {RayPacket(origin, shrink * direction, rays.active), shrink};
+}
+
+// The primitive's span along the object ray, and t = t'/|d'|. Not inlined, unlike the other kernels: inlined, its
+// three instances grew every per-type loop past what GCC inlines into the walks, and scenes without transforms paid
+// 3 % more instructions for it.
 template <typename P, typename Inner>
 __attribute__((noinline)) Span4 span_of(const TransformedShape<Inner>& shape, const RayPacket& rays) {
-    Vec3x4 origin = mutated<Mutant::transform_order_swapped> ? shape.inverse * rays.origin - shape.translation
-                                                             : shape.inverse * (rays.origin - shape.translation);
-    Vec3x4 direction = shape.inverse * rays.direction;
-    vfloat4 shrink = reciprocal<P>(sqrt(dot<P>(direction, direction)));
-    RayPacket object_rays(origin, shrink * direction, rays.active);
+    UnitObjectRays object = unit_object_rays<P>(shape.inverse, shape.translation, rays);
     if constexpr (uses_inverse_direction<Inner>) {
-        object_rays.compute_inverse_direction<P>();
+        object.rays.compute_inverse_direction<P>();
     }
-    Span4 span = span_of<P>(shape.inner, object_rays);
-    span.enter = span.enter * shrink;
-    span.exit = span.exit * shrink;
+    Span4 span = span_of<P>(shape.inner, object.rays);
+    span.enter = span.enter * object.shrink;
+    span.exit = span.exit * object.shrink;
     return span;
 }
 
-// The primitive's outward normal at the object-space point, through the inverse transpose (not yet unit).
+// A surface in an object's space under a transform: a transformed primitive's (TransformedSurface), or a solid
+// shape's part as an instance places it (PlacedPartSurface).
+template <typename S>
+concept PlacedSurface = requires(const S& surface) {
+    surface.inner();
+    surface.to_world();
+    surface.norms();
+};
+
+// A solid shape's part (its surface in the shape's space) under an instance's transform and norms: the rules of a
+// transformed primitive's surface, without a record of its own.
 template <typename InnerSurface>
-Vec3 outward_normal(const TransformedSurface<InnerSurface>& surface, std::int32_t face, Vec3 point,
-                    bool& needs_normalizing) {
+class PlacedPartSurface {
+public:
+    PlacedPartSurface(const InnerSurface& part, const math::Transform<float>& to_world,
+                      const scene::TransformNorms<float>& norms)
+        : part_(part), to_world_(to_world), norms_(norms) {}
+
+    const InnerSurface& inner() const { return part_; }
+    const math::Transform<float>& to_world() const { return to_world_; }
+    const scene::TransformNorms<float>& norms() const { return norms_; }
+
+private:
+    const InnerSurface& part_;
+    const math::Transform<float>& to_world_;
+    const scene::TransformNorms<float>& norms_;
+};
+
+// The primitive's outward normal at the object-space point, through the inverse transpose (not yet unit).
+template <PlacedSurface Surface>
+Vec3 outward_normal(const Surface& surface, std::int32_t face, Vec3 point, bool& needs_normalizing) {
     bool inner_needs_normalizing = false;
     Vec3 object_normal =
         outward_normal(surface.inner(), face, surface.to_world().point_to_object(point), inner_needs_normalizing);
@@ -84,9 +125,8 @@ Vec3 outward_normal(const TransformedSurface<InnerSurface>& surface, std::int32_
 // As the reference's surface_point: re-projected in object space by the primitive's own anchor, carried back,
 // and the anchor returned as the point itself (radius 0, no own rounding); the spawn offset carried through both
 // trips (scene::transformed_spawn_offset).
-template <typename InnerSurface>
-SurfaceAnchor surface_anchor(const TransformedSurface<InnerSurface>& surface, std::int32_t face, float turned,
-                             Vec3 point) {
+template <PlacedSurface Surface>
+SurfaceAnchor surface_anchor(const Surface& surface, std::int32_t face, float turned, Vec3 point) {
     const math::Transform<float>& m = surface.to_world();
     Vec3 object_point = m.point_to_object(point);
     bool needs_normalizing = false;

@@ -27,8 +27,9 @@ FirstHit first_hit(const std::optional<H>& hit) {
     if (!hit) {
         return {};
     }
-    return {true,          hit->leaf,    static_cast<double>(hit->t), widened(hit->point), widened(hit->normal),
-            hit->triangle, hit->entering};
+    return {
+        true,          hit->leaf, static_cast<double>(hit->t), widened(hit->point), widened(hit->normal), hit->triangle,
+        hit->entering, hit->part};
 }
 
 // A tracer of twinray's own: `Ray` its ray type, built from double vectors (rounded where its members are float).

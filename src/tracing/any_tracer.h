@@ -26,6 +26,7 @@ struct FirstHit {
     Vec3d normal{};  // unit, facing the ray
     int triangle = -1;
     bool entering = false;  // the ray enters the object's inside there
+    int part = -1;          // on an instance of a solid shape, the shape's primitive
 };
 
 class AnyTracer {
