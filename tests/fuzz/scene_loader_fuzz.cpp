@@ -115,12 +115,32 @@ void check_accepted(const Scene& scene) {
     for (const Light& light : scene.lights) {
         expect(is_finite(light.position) && is_finite(light.color) && non_negative(light.color), "light is finite");
     }
-    // Meshes take leaf numbers among the objects': counted here by the numbers they take.
+    // Meshes and instances of CSG shapes take leaf numbers among the objects': counted here by the numbers they take.
     std::vector<bool> mesh_leaf(scene.leaf_paths.size(), false);
     for (const Mesh& mesh : scene.meshes) {
         expect(mesh.leaf >= 0 && static_cast<std::size_t>(mesh.leaf) < scene.leaf_paths.size(), "mesh leaf in range");
         mesh_leaf[static_cast<std::size_t>(mesh.leaf)] = true;
         check_mesh(scene, mesh);
+    }
+    for (const SolidShape& shape : scene.solid_shapes) {
+        expect(std::holds_alternative<Csg>(shape.tree.shape), "a solid shape is a CSG tree");
+        expect(shape.part_paths.size() == shape.part_materials.size() &&
+                   shape.part_paths.size() <= static_cast<std::size_t>(max_csg_leaves),
+               "a solid shape's parts have a path and a material each, at most 64");
+        for (int material : shape.part_materials) {
+            expect(material >= -1 && material < static_cast<int>(scene.materials.size()),
+                   "a part's material is in range, or -1 for the instance's");
+        }
+    }
+    for (const SolidInstance& instance : scene.solid_instances) {
+        expect(instance.leaf >= 0 && static_cast<std::size_t>(instance.leaf) < scene.leaf_paths.size(),
+               "instance leaf in range");
+        expect(instance.placement.shape >= 0 &&
+                   static_cast<std::size_t>(instance.placement.shape) < scene.solid_shapes.size(),
+               "an instance's shape is in range");
+        expect(instance.material >= 0 && static_cast<std::size_t>(instance.material) < scene.materials.size(),
+               "an instance's material is in range");
+        mesh_leaf[static_cast<std::size_t>(instance.leaf)] = true;
     }
     int next_leaf = 0;
     auto skip_meshes = [&] {
