@@ -696,12 +696,8 @@ void read_shapes(const std::vector<std::string>& material_names, std::size_t max
                 }
                 primitives += part_count;
                 shape.solid = static_cast<int>(scene.solid_shapes.size());
-                std::vector<std::string> part_paths;
-                for (std::size_t part = 0; part < parts.leaf_paths.size(); ++part) {
-                    part_paths.push_back(parts.leaf_paths[part]);
-                }
                 scene.solid_shapes.push_back(SolidShape{key_path("shapes", shape.name), std::move(tree),
-                                                        std::move(part_paths), std::move(parts.leaf_materials)});
+                                                        std::move(parts.leaf_paths), std::move(parts.leaf_materials)});
             }
         }
         out.add(std::move(shape));

@@ -45,8 +45,12 @@ bool any_material_used(const Scene& scene, const Predicate& predicate) {
     auto of = [&](int material) { return predicate(scene.materials[static_cast<std::size_t>(material)]); };
     auto of_instance = [&](const SolidInstance& instance) {
         const SolidShape& shape = scene.solid_shapes[static_cast<std::size_t>(instance.placement.shape)];
-        return std::any_of(shape.part_materials.begin(), shape.part_materials.end(),
-                           [&](int own) { return of(own >= 0 ? own : instance.material); });
+        for (std::size_t part = 0; part < shape.part_materials.size(); ++part) {
+            if (of(instance.material_of(shape, static_cast<int>(part)))) {
+                return true;
+            }
+        }
+        return false;
     };
     return any_leaf(scene.objects, [&](const Object& leaf) { return of(leaf.material); }) ||
            std::any_of(scene.meshes.begin(), scene.meshes.end(), [&](const Mesh& mesh) { return of(mesh.material); }) ||

@@ -177,31 +177,6 @@ struct MeshShape {
     bool name_begins_with_file = false;  // a glTF file's mesh, named after the file
 };
 
-// A shape of `shapes` that holds several primitives (a CSG tree), read once in its own space for the instances that
-// place it at the top level of `objects` (an instance inside a CSG tree reads its shape where it stands). Its
-// primitives are its parts, numbered from 0 in document order (Object::leaf): a hit on an instance names the instance's
-// leaf and the part. A part's material is -1 where neither it nor a CSG ancestor in the shape names one, so that the
-// instance's applies.
-struct SolidShape {
-    std::string name;  // "shapes.cup"
-    Object tree;
-    std::vector<std::string> part_paths;  // "shapes.cup.children[1]"
-    std::vector<int> part_materials;
-};
-
-// An instance of a solid shape: one leaf, counted one towards the primitive limit (its shape's parts count once).
-// `material`: where a part names none.
-struct SolidInstance {
-    Placement placement;
-    int material = 0;
-    int leaf = -1;
-
-    int material_of(const SolidShape& shape, int part) const {
-        const int own = shape.part_materials[static_cast<std::size_t>(part)];
-        return own >= 0 ? own : material;
-    }
-};
-
 // Every leaf's path: a top-level element's, "objects[k]" as the loader writes it, in 4 bytes (k alone), any other in
 // a block of text (its length, then its bytes; the 4 bytes its place there). A million instances' paths take 4 MB
 // where a std::string each took 32.
@@ -222,6 +197,31 @@ private:
     static constexpr std::uint32_t element_flag = std::uint32_t{1} << 31;
     std::string text_;
     std::vector<std::uint32_t> entries_;  // element_flag | k, or the path's place in text_
+};
+
+// A shape of `shapes` that holds several primitives (a CSG tree), read once in its own space for the instances that
+// place it at the top level of `objects` (an instance inside a CSG tree reads its shape where it stands). Its
+// primitives are its parts, numbered from 0 in document order (Object::leaf): a hit on an instance names the instance's
+// leaf and the part. A part's material is -1 where neither it nor a CSG ancestor in the shape names one, so that the
+// instance's applies.
+struct SolidShape {
+    std::string name;  // "shapes.cup"
+    Object tree;
+    LeafPaths part_paths;  // "shapes.cup.children[1]"
+    std::vector<int> part_materials;
+};
+
+// An instance of a solid shape: one leaf, counted one towards the primitive limit (its shape's parts count once).
+// `material`: where a part names none.
+struct SolidInstance {
+    Placement placement;
+    int material = 0;
+    int leaf = -1;
+
+    int material_of(const SolidShape& shape, int part) const {
+        const int own = shape.part_materials[static_cast<std::size_t>(part)];
+        return own >= 0 ? own : material;
+    }
 };
 
 struct Scene {

@@ -351,6 +351,13 @@ struct CompiledScene {
 
     // The primitives every ray tests one by one: all of them, or with a BVH the ones it leaves out.
     const PrimitiveLists& flat() const { return bvh.empty() ? primitives : unbounded; }
+    // The material of `part` as the solid shape's instance `instance` (its index in solid_instances) places it: the
+    // part's own, else the instance's.
+    int part_material(std::int32_t instance, std::int32_t part) const {
+        const InstanceRecord& record = solid_instances[static_cast<std::size_t>(instance)];
+        const int own = solids[record.shape].parts[static_cast<std::size_t>(part)].material;
+        return own >= 0 ? own : record.material;
+    }
 };
 
 // `accel`: automatic builds a BVH where brute force would cost more than bvh_crossover sphere tests (tracer.h).

@@ -728,7 +728,7 @@ private:
                 if (part[lane] >= 0 && names(scene_.solid_instances, instance[lane], leaf[lane])) {
                     const InstanceRecord& record = scene_.solid_instances[static_cast<std::size_t>(instance[lane])];
                     const Leaf& info = scene_.solids[record.shape].parts[static_cast<std::size_t>(part[lane])];
-                    material[lane] = info.material >= 0 ? info.material : record.material;
+                    material[lane] = scene_.part_material(instance[lane], part[lane]);
                     surface = lane_surface(info, tag[lane], lane_point, &record);
                     part_hit[lane] = part[lane];
                 } else if (names(scene_.instances, instance[lane], leaf[lane])) {

@@ -284,11 +284,8 @@ private:
         const Leaf& info = scene_.leaves[static_cast<std::size_t>(leaf)];
         return scene_.materials[static_cast<std::size_t>(info.material)].transmission;
     }
-    // A solid shape's part as instance `instance` places it: its own material, else the instance's.
     float part_transmission(std::int32_t instance, std::int32_t part) const {
-        const InstanceRecord& record = scene_.solid_instances[static_cast<std::size_t>(instance)];
-        const int own = scene_.solids[record.shape].parts[static_cast<std::size_t>(part)].material;
-        return scene_.materials[static_cast<std::size_t>(own >= 0 ? own : record.material)].transmission;
+        return scene_.materials[static_cast<std::size_t>(scene_.part_material(instance, part))].transmission;
     }
     float transmission_of(const InstanceRecord& instance) const {
         return scene_.materials[static_cast<std::size_t>(instance.material)].transmission;
