@@ -5,6 +5,7 @@
 #include "scene/loader.h"
 #include "scene/mesh_wire.h"
 #include "tests/gltf_files.h"
+#include "tests/test_output.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -38,8 +39,9 @@ const fs::path meshes_dir = fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "m
 const fs::path testmodels_dir = "/usr/share/assimp/models";
 constexpr std::size_t limit = max_scene_primitives;
 
+// Called more than once in a test, so made, not emptied.
 fs::path output_dir() {
-    const fs::path dir = fs::path(TWINRAY_TEST_OUTPUT_DIR) / "mesh_file";
+    const fs::path dir = test::own_output_path("mesh_file");
     fs::create_directories(dir);
     return dir;
 }
