@@ -395,6 +395,14 @@ bool contains(const std::string& text, const std::string& part) {
     return text.find(part) != std::string::npos;
 }
 
+std::size_t occurrences(const std::string& text, const std::string& part) {
+    std::size_t found = 0;
+    for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) {
+        ++found;
+    }
+    return found;
+}
+
 // `twinray bench` takes POV-Ray's render time from its own statistics (the trace's CPU seconds), not from a
 // difference of whole-process times: read back from the log, and sixteen times the pixels take longer to
 // trace, while the parse of the same scene does not grow with them.
@@ -447,16 +455,9 @@ TEST(PovExporter, AGltfFilesMeshIsDeclaredOnceAndEachNodePlacesItAsTheReferenceR
                    { "type": "mesh", "file": "three_gems.gltf", "material": "red" } ] })",
                                                                     (folder / "gems.json").string());
     const std::string pov_text = twinray::pov::export_pov(scene, scene.width, scene.height);
-    const auto count = [&pov_text](const std::string& part) {
-        std::size_t found = 0;
-        for (std::size_t at = pov_text.find(part); at != std::string::npos; at = pov_text.find(part, at + 1)) {
-            ++found;
-        }
-        return found;
-    };
-    EXPECT_EQ(count("#declare twinray_shape_"), 1u);
-    EXPECT_EQ(count("  twinray_shape_0\n"), 3u);
-    EXPECT_EQ(count("// objects[1] node \"Turned\" (three_gems.gltf mesh 0)"), 1u);
+    EXPECT_EQ(occurrences(pov_text, "#declare twinray_shape_"), 1u);
+    EXPECT_EQ(occurrences(pov_text, "  twinray_shape_0\n"), 3u);
+    EXPECT_EQ(occurrences(pov_text, "// objects[1] node \"Turned\" (three_gems.gltf mesh 0)"), 1u);
     std::optional<Image> pov = render_with_povray(*povray, folder, "pov", pov_text, scene.width, scene.height);
     ASSERT_TRUE(pov.has_value());
     twinray::RenderOptions options;
@@ -476,6 +477,90 @@ TEST(PovExporter, AGltfFilesMeshIsDeclaredOnceAndEachNodePlacesItAsTheReferenceR
                 scene.width * scene.height, red);
     EXPECT_GT(red, scene.width * scene.height / 20);
     EXPECT_GE(within_2, scene.width * scene.height - scene.width * scene.height / 1000);
+}
+
+// A CSG shape (a bead: a sphere taking its instance's material, pierced by a gold box) is declared once for each
+// material its instances give it, with the glass one's shadow caster declared beside it, and once in the object-id pass,
+// where each instance colours it by its id; POV-Ray renders both passes as the reference does.
+TEST(PovExporter, ACsgShapeIsDeclaredOnceForEachMaterialItsInstancesGiveItAndEachInstancePlacesIt) {
+    std::optional<fs::path> povray = find_povray();
+    ASSERT_TRUE(povray.has_value()) << "povray is not on PATH: install the Debian package `povray` (ci/setup)";
+    const fs::path folder = twinray::test::fresh_directory(twinray::test::own_output_path("pov"));
+    const twinray::scene::Scene scene = twinray::scene::parse_scene(R"({
+      "image": { "width": 96, "height": 64 },
+      "camera": { "eye": [0, 2.2, 4.5], "look_at": [0, 0.3, 0] },
+      "materials": { "red": { "color": [0.9, 0.2, 0.1], "diffuse": 0.7, "phong": 0.4 },
+                     "gold": { "color": [0.9, 0.7, 0.2], "diffuse": 0.6, "reflection": 0.3 },
+                     "glass": { "color": [1, 1, 1], "diffuse": 0.1, "reflection": 0.1, "transmission": 0.8,
+                                "ior": 1.5 } },
+      "lights": [ { "position": [-3, 6, 4] } ],
+      "shapes": { "bead": { "type": "union", "children": [
+                    { "type": "sphere", "center": [0, 0, 0], "radius": 0.5 },
+                    { "type": "box", "min": [-0.7, -0.15, -0.15], "max": [0.7, 0.15, 0.15], "material": "gold" } ] } },
+      "objects": [ { "type": "plane", "normal": [0, 1, 0], "offset": -0.5 },
+                   { "type": "instance", "shape": "bead", "material": "red",
+                     "transform": [ { "translate": [-1.5, 0, 0] } ] },
+                   { "type": "instance", "shape": "bead", "material": "glass",
+                     "transform": [ { "rotate": [0, 30, 0] }, { "translate": [0, 0.2, 0.5] } ] },
+                   { "type": "instance", "shape": "bead", "material": "red",
+                     "transform": [ { "scale": [1, 1.5, 1] }, { "translate": [1.5, 0.25, 0] } ] },
+                   { "type": "instance", "shape": "bead", "material": "red",
+                     "transform": [ { "rotate": [0, 0, 90] }, { "translate": [0, 0.3, -1.5] } ] } ] })",
+                                                                    "beads.json");
+    ASSERT_EQ(scene.solid_instances.size(), 4u);
+    const std::string pov_text = twinray::pov::export_pov(scene, scene.width, scene.height);
+    const std::string ids_text = twinray::pov::export_pov_object_ids(scene, scene.width, scene.height);
+    const auto material = [&scene](const std::string& name) {
+        const auto found = std::find(scene.material_names.begin(), scene.material_names.end(), name);
+        return std::to_string(found - scene.material_names.begin());
+    };
+    const std::string red = "twinray_solid_0_" + material("red");
+    const std::string glass = "twinray_solid_0_" + material("glass");
+    EXPECT_EQ(occurrences(pov_text, "#declare twinray_solid_"), 3u) << pov_text;
+    EXPECT_EQ(occurrences(pov_text, "#declare " + red + " =\nmerge {"), 1u) << pov_text;
+    EXPECT_EQ(occurrences(pov_text, "#declare " + glass + " =\nmerge {"), 1u) << pov_text;
+    EXPECT_EQ(occurrences(pov_text, "#declare " + glass + "_shadow =\nmerge {"), 1u) << pov_text;
+    EXPECT_EQ(occurrences(pov_text, "  " + red + "\n"), 3u) << pov_text;
+    EXPECT_EQ(occurrences(pov_text, "  " + glass + "\n"), 1u) << pov_text;
+    EXPECT_EQ(occurrences(pov_text, "object { " + glass + "_shadow matrix <"), 1u) << pov_text;
+    EXPECT_EQ(occurrences(pov_text, "// shapes.bead.children[1]"), 3u)
+        << pov_text;  // in each of the three declarations
+    EXPECT_EQ(occurrences(pov_text, "// objects[3] (shapes.bead)"), 1u) << pov_text;
+    EXPECT_EQ(occurrences(ids_text, "#declare twinray_solid_"), 1u) << ids_text;
+    EXPECT_EQ(occurrences(ids_text, "  twinray_solid_0\n"), 4u) << ids_text;
+    EXPECT_EQ(occurrences(ids_text, "pigment"), 5u) << ids_text;  // the plane's and one per instance, none in the shape
+
+    std::optional<Image> pov = render_with_povray(*povray, folder, "pov", pov_text, scene.width, scene.height);
+    ASSERT_TRUE(pov.has_value());
+    std::optional<Image> pov_ids = render_with_povray(*povray, folder, "pov_ids", ids_text, scene.width, scene.height);
+    ASSERT_TRUE(pov_ids.has_value());
+    twinray::RenderOptions options;
+    options.threads = 1;
+    const Image reference = twinray::compare::quantized_8bit(twinray::reference::render<double>(scene, options).image);
+    const std::vector<int> ids = reference_object_ids(RefTracer(scene), scene.width, scene.height);
+    int within_2 = 0;
+    int same_object = 0;
+    int on_beads = 0;
+    for (int y = 0; y < scene.height; ++y) {
+        for (int x = 0; x < scene.width; ++x) {
+            const std::array<int, 3> a = levels_of(pov->at(x, y));
+            const std::array<int, 3> b = levels_of(reference.at(x, y));
+            within_2 += std::abs(a[0] - b[0]) <= 2 && std::abs(a[1] - b[1]) <= 2 && std::abs(a[2] - b[2]) <= 2;
+            const twinray::Rgb& id_pixel = pov_ids->at(x, y);
+            const int pov_id = twinray::pov::decode_object_id(level(id_pixel.r), level(id_pixel.g));
+            const int reference_id = ids[index_of(x, y, scene.width)];
+            same_object += pov_id == reference_id;
+            on_beads += reference_id > 1;
+        }
+    }
+    const int pixels = scene.width * scene.height;
+    std::printf(
+        "[ measured ] CSG instances: %d of %d pixels within 2/255 of the reference, %d on the same object, %d "
+        "on the beads\n",
+        within_2, pixels, same_object, on_beads);
+    EXPECT_GT(on_beads, pixels / 20);
+    EXPECT_GE(within_2, pixels - pixels / 200);
+    EXPECT_GE(same_object, pixels - pixels / 1000);
 }
 
 TEST(PovExporter, CameraHasExplicitRightUpSkyAndHorizontalAngle) {

@@ -8,9 +8,11 @@
 #include <array>
 #include <cstdint>
 #include <cstdio>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -136,9 +138,7 @@ public:
         for (const scene::Object& object : scene_.objects) {
             top_level(object);
         }
-        for (const scene::SolidInstance& instance : scene_.solid_instances) {
-            top_level(scene_.solid_shapes[static_cast<std::size_t>(instance.placement.shape)].tree, &instance);
-        }
+        write_solid_instances();
         // Each mesh shape once; its instances name it (POV-Ray copies a declared mesh's reference, not its data).
         for (std::size_t i = 0; i < scene_.mesh_shapes.size(); ++i) {
             line(0, "// " + scene_.mesh_shapes[i].name);
@@ -177,10 +177,9 @@ private:
             used.at(static_cast<std::size_t>(mesh.material)) = true;
         }
         for (const scene::SolidInstance& instance : scene_.solid_instances) {
-            for_each_leaf(scene_.solid_shapes[static_cast<std::size_t>(instance.placement.shape)].tree,
-                          [&](const scene::Object& part) {
-                              used.at(static_cast<std::size_t>(material_of(part, &instance))) = true;
-                          });
+            for_each_leaf(shape_of(instance).tree, [&](const scene::Object& part) {
+                used.at(static_cast<std::size_t>(material_of(part, &instance))) = true;
+            });
         }
         for (std::size_t i = 0; i < materials_.size() && !object_ids_; ++i) {
             if (used[i] && !materials_[i].residual.empty()) {
@@ -236,10 +235,7 @@ private:
 
     // A leaf's material; on an instance of a solid shape (`placed`), the part's as the instance resolves it.
     int material_of(const scene::Object& leaf, const scene::SolidInstance* placed) const {
-        return placed == nullptr
-                   ? leaf.material
-                   : placed->material_of(scene_.solid_shapes[static_cast<std::size_t>(placed->placement.shape)],
-                                         leaf.leaf);
+        return placed == nullptr ? leaf.material : placed->material_of(shape_of(*placed), leaf.leaf);
     }
 
     InteriorPlan plan_interior(const scene::Object& object, const scene::SolidInstance* placed) const {
@@ -265,16 +261,58 @@ private:
         return plan;
     }
 
-    // An element of `objects`, or the tree of the solid shape instance `placed` places, written where it stands
-    // with the instance's matrix.
-    void top_level(const scene::Object& object, const scene::SolidInstance* placed = nullptr) {
-        std::vector<std::string> modifiers;
-        if (placed != nullptr) {
-            modifiers.push_back(matrix(placed->placement.transform()));
+    const scene::SolidShape& shape_of(const scene::SolidInstance& instance) const {
+        return scene_.solid_shapes[static_cast<std::size_t>(instance.placement.shape)];
+    }
+
+    // Each solid shape declared once for each material its instances give it, since its parts' textures and shared
+    // interior depend on that material; in the object-id pass once, untextured, each instance colouring it by its id
+    // (POV-Ray gives an object's texture to the parts that have none). Each instance is an object of its declaration
+    // under its matrix, with one of the shadow caster beside it where the declaration has one.
+    void write_solid_instances() {
+        std::map<std::pair<int, int>, bool> casts_by_copy;  // (shape, material) declared → it has a shadow caster
+        for (const scene::SolidInstance& instance : scene_.solid_instances) {
+            const int material = object_ids_ ? -1 : instance.material;
+            const std::string identifier = "twinray_solid_" + std::to_string(instance.placement.shape) +
+                                           (object_ids_ ? "" : "_" + std::to_string(material));
+            auto [declared, first] = casts_by_copy.try_emplace({instance.placement.shape, material}, false);
+            if (first) {
+                line(0,
+                     "// " + shape_of(instance).name +
+                         (object_ids_ ? ""
+                                      : ", material " + scene_.material_names.at(static_cast<std::size_t>(material)) +
+                                            " where its parts name none"));
+                declared->second = top_level(shape_of(instance).tree, &instance, identifier);
+            }
+            line(0, "// " + scene_.leaf_name(instance.leaf));
+            const std::string placement = matrix(instance.placement.transform());
+            line(0, "object {");
+            line(1, identifier);
+            if (object_ids_) {
+                appearance(instance.leaf, instance.material, 1, Pass::object_ids);
+            }
+            line(1, placement);
+            line(0, "}");
+            if (declared->second) {
+                line(0, "object { " + identifier + "_shadow " + placement + " }");
+            }
         }
+    }
+
+    // An element of `objects`; or, with `placed`, the tree of its solid shape declared as `identifier` (and its
+    // shadow caster as identifier_shadow), the parts coloured as `placed` colours them. Whether it has a shadow caster.
+    bool top_level(const scene::Object& object, const scene::SolidInstance* placed = nullptr,
+                   const std::string& identifier = "") {
+        const auto declare = [&](const std::string& name) {
+            if (placed != nullptr) {
+                line(0, "#declare " + name + " =");
+            }
+        };
+        std::vector<std::string> modifiers;
         if (object_ids_) {
+            declare(identifier);
             write_object(object, 0, Pass::object_ids, modifiers, placed);
-            return;
+            return false;
         }
         plan_ = plan_interior(object, placed);
         if (plan_.shared) {
@@ -287,19 +325,19 @@ private:
         if (plan_.needs_shadow_caster) {
             modifiers.push_back("no_shadow  // the copy below casts this object's shadows");
         }
+        declare(identifier);
         write_object(object, 0, Pass::shaded, modifiers, placed);
         if (plan_.needs_shadow_caster) {
             line(0, "// The same object, invisible to every ray but shadow rays, passing our transmission to shadows.");
-            std::vector<std::string> caster{"no_image", "no_reflection"};
-            if (placed != nullptr) {
-                caster.push_back(matrix(placed->placement.transform()));
-            }
-            write_object(object, 0, Pass::shadow_caster, caster, placed);
+            declare(identifier + "_shadow");
+            write_object(object, 0, Pass::shadow_caster, {"no_image", "no_reflection"}, placed);
         }
+        return plan_.needs_shadow_caster;
     }
 
-    // `modifiers` close the object's block (POV-Ray wants object modifiers after a CSG's children). `placed`: the
-    // instance whose solid shape's tree this is (its leaves are parts, named and coloured as the instance's).
+    // `modifiers` close the object's block (POV-Ray wants object modifiers after a CSG's children). `placed`: an
+    // instance whose solid shape's tree this is (its leaves are parts, named by their paths in the shape and
+    // coloured as the instance colours them, or left untextured in the object-id pass).
     void write_object(const scene::Object& object, int indent, Pass pass,
                       const std::vector<std::string>& modifiers = {}, const scene::SolidInstance* placed = nullptr) {
         std::visit(
@@ -311,12 +349,14 @@ private:
                         write_object(child, indent + 1, pass, {}, placed);
                     }
                 } else {
-                    const int leaf = placed != nullptr ? placed->leaf : object.leaf;
-                    line(indent, "// " + (placed != nullptr ? scene_.leaf_name(leaf, object.leaf)
-                                                            : scene_.leaf_paths.at(static_cast<std::size_t>(leaf))));
+                    const auto leaf = static_cast<std::size_t>(object.leaf);
+                    line(indent, "// " + (placed != nullptr ? shape_of(*placed).part_paths.at(leaf)
+                                                            : scene_.leaf_paths.at(leaf)));
                     line(indent, std::string(primitive(shape)) + " {");
                     line(indent + 1, geometry(shape));
-                    appearance(leaf, material_of(object, placed), indent + 1, pass);
+                    if (placed == nullptr || pass != Pass::object_ids) {
+                        appearance(object.leaf, material_of(object, placed), indent + 1, pass);
+                    }
                 }
                 for (const std::string& modifier : modifiers) {
                     line(indent + 1, modifier);

@@ -89,7 +89,7 @@ public:
         // The high bit, clear in every input older than transforms, gives objects transforms: old inputs keep
         // decoding to the very cases they found.
         transforms_ = (first & 0x80) != 0;
-        // Both high bits: some top-level meshes become shapes, placed by instances (and their copies).
+        // Both high bits: some top-level meshes and CSG trees become shapes, placed by instances (and their copies).
         instances_ = (first & 0xC0) == 0xC0;
         int width = 4 + in_.byte() % 4;
         int height = 3 + in_.byte() % 3;
@@ -183,7 +183,7 @@ private:
     std::string object(int level, int& leaves_left, const std::string& own_material) {
         std::size_t first_anchor = anchors_.size();
         std::string text = untransformed_object(level, leaves_left, own_material);
-        if (instances_ && level == 1 && text.rfind(R"({"type": "mesh")", 0) == 0 && in_.byte() % 2 == 0) {
+        if (instances_ && level == 1 && holds_several_primitives(text) && in_.byte() % 2 == 0) {
             const std::string name = "s" + std::to_string(shape_count_++);
             shapes_ += (shapes_.empty() ? "\"" : ", \"") + name + "\": " + text;
             return R"({"type": "instance", "shape": ")" + name + "\"" + transform_about(anchors_[first_anchor]) + "}";
@@ -192,6 +192,16 @@ private:
             text.insert(text.size() - 1, transform_about(anchors_[first_anchor]));
         }
         return text;
+    }
+
+    // A mesh or a CSG tree: the objects that an instance places as one leaf, its shape read once.
+    static bool holds_several_primitives(const std::string& text) {
+        for (const char* type : {"mesh", "union", "intersection", "difference"}) {
+            if (text.rfind(std::string(R"({"type": ")") + type + "\"", 0) == 0) {
+                return true;
+            }
+        }
+        return false;
     }
 
     // Moved to the origin, scaled unevenly (factors 1/4 to 4, a quarter of them mirrored) or turned about any
@@ -344,6 +354,7 @@ void compare_hits(const std::optional<Hit>& brute, const std::optional<Hit>& bvh
     if (brute && bvh) {
         out.equal(brute->leaf, bvh->leaf, "object hit (leaf)");
         out.equal(brute->triangle, bvh->triangle, "triangle hit");
+        out.equal(brute->part, bvh->part, "part of a solid shape hit");
         out.bits(brute->t, bvh->t, "t");
         out.bits(brute->normal, bvh->normal, "normal");
         out.bits(brute->point, bvh->point, "point");
