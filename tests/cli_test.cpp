@@ -410,8 +410,9 @@ TEST_F(CliTest, BenchGivesAPluginItsRowWhereItCanTraceTheScene) {
 
 // The scaling tables alone, at the smallest size: one row per family in each, every table in its CSV file.
 TEST_F(CliTest, BenchScalingOnlyWritesItsTables) {
-    CommandResult result = run_twinray("bench --scaling-only --scaling-max 10 --runs 1 --width 16 --no-peers --csv " +
-                                       output("bench.csv") + " --markdown " + output("bench.md"));
+    CommandResult result =
+        run_twinray("bench --scaling-only --scaling-max 10 --runs 1 --width 16 --no-peers --no-floor --csv " +
+                    output("bench.csv") + " --markdown " + output("bench.md"));
     ASSERT_EQ(result.exit_status, 0) << result.output;
     EXPECT_FALSE(fs::exists(output("bench.csv"))) << "no scene was rendered";
     for (const char* table : {"scaling", "scaling-peers", "scaling-build", "scaling-threads"}) {
@@ -423,6 +424,7 @@ TEST_F(CliTest, BenchScalingOnlyWritesItsTables) {
         }
         EXPECT_EQ(rows, 5) << table << ": spheres, fractal, lattice, sphere-mesh, tetra";
     }
+    EXPECT_FALSE(fs::exists(output("bench-scaling-floor.csv"))) << "--no-floor";
     std::ifstream markdown(output("bench.md"));
     std::string text((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
     EXPECT_NE(text.find("| lattice | 9 |"), std::string::npos) << text;

@@ -448,8 +448,10 @@ int run_bench(const BenchArguments& arguments) {
     }
     if (arguments.scaling || arguments.scaling_only) {
         bench_scaling(arguments, all_threads, povray, report);
-        std::fputs("scaling: the memory floor\n", stderr);
-        bench_memory_floor(arguments.runs, report);
+        if (arguments.floor) {
+            std::fputs("scaling: the memory floor\n", stderr);
+            bench_memory_floor(arguments.runs, report);
+        }
     }
     std::vector<Output> outputs;
     for (const Output& output : outputs_of(report)) {
@@ -506,6 +508,8 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::Range(10, max_generated_primitives))
         ->capture_default_str();
     command->add_flag("!--no-peers", arguments->peers, "Leave out POV-Ray and the first-hit table (Embree)");
+    command->add_flag("!--no-floor", arguments->floor,
+                      "Leave out --scaling's memory floor of this machine (a few seconds, a minute under a sanitizer)");
     add_accel_option(*command, arguments->accel);
     add_plugin_option(*command, arguments->plugins);
     command->add_option("--csv", arguments->csv_path,

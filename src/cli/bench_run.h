@@ -27,6 +27,7 @@ struct BenchArguments {
     bool scaling_only = false;    // the scaling tables alone, no scene of `scenes`
     int scaling_max = 1'000'000;  // the largest size the scaling asks a family for
     bool peers = true;
+    bool floor = true;  // --scaling's memory floor of this machine (bench_floor.cpp)
     std::string csv_path;
     std::string markdown_path;
     Accel accel = Accel::automatic;    // of every configuration's tracer
