@@ -300,16 +300,15 @@ Scene csg_column(std::size_t count) {
     return scene_of(objects, "[0, 0, 30]");
 }
 
-// Past CsgCandidates::capacity (64) CSG objects met, a packet folds every CSG object as brute force does. A
-// column of 100 (and, to show the observation can tell, of 60) along a packet's rays: the primary and the
-// shadow walks report the fallback exactly when the column is over capacity, and the hits, the shadows, the
-// rays and the images are those of brute force bit for bit.
-// Past the candidates' capacity a nearest hit folds those held in batches (the least (t, leaf) does not depend on the
-// order), and a transparent shadow ray, whose product does, falls back to every object: both answer as brute force.
-TEST_F(Bvh, CsgCandidatesPastCapacityAreFoldedInBatchesOrByBruteForceWithTheSameAnswers) {
+// Past CsgCandidates::capacity (64) CSG objects met, a nearest hit folds those held in batches (the least (t, leaf)
+// does not depend on the order), and a transparent shadow ray, whose product does, folds them in rounds of ascending
+// index, walking again for each. A column of 100 and of 200 (two and four rounds; and, to show the observation can
+// tell, of 60) along a packet's rays: the shadow walk reports rounds exactly when the column is over capacity, and
+// the hits, the shadows, the rays and the images are those of brute force bit for bit.
+TEST_F(Bvh, CsgCandidatesPastCapacityAreFoldedInBatchesOrInRoundsWithTheSameAnswers) {
     using namespace twinray::sse;
     static_assert(60 < CsgCandidates::capacity && CsgCandidates::capacity < 100, "the columns straddle the capacity");
-    for (std::size_t count : {std::size_t{60}, std::size_t{100}}) {
+    for (std::size_t count : {std::size_t{60}, std::size_t{100}, std::size_t{200}}) {
         const std::string name = "column of " + std::to_string(count) + " CSG objects";
         Scene scene = csg_column(count);
         CompiledScene brute = compile(scene, Accel::none);
@@ -330,9 +329,10 @@ TEST_F(Bvh, CsgCandidatesPastCapacityAreFoldedInBatchesOrByBruteForceWithTheSame
         EXPECT_TRUE(same_lanes(a.t, b.t)) << name << ": t " << lanes_of(a.t) << " and " << lanes_of(b.t);
         EXPECT_EQ(movemask(a.leaf == b.leaf), 0xF) << name;
 
-        // Shadow rays from behind the column through all of it.
+        // Shadow rays from behind the column (its last object at z = 25 − 0.4·(count − 1)) through all of it.
         Fallbacks shadow_fallbacks;
-        Vec3x4 origins = packet_around({0, 0, -20}, {0, 0, 1}).origin;
+        const float behind = 20.0f - 0.4f * static_cast<float>(count);
+        Vec3x4 origins = packet_around({0, 0, behind}, {0, 0, 1}).origin;
         vbool4 lanes = brute_rays.active;
         vfloat4 brute_shadow = ShadowTransmittance<ExactPrecision>(brute)(origins, {0, 0, 40}, lanes);
         vfloat4 bvh_shadow = ShadowTransmittance<ExactPrecision>(bvh)(origins, {0, 0, 40}, lanes, &shadow_fallbacks);
@@ -349,7 +349,7 @@ TEST_F(Bvh, CsgCandidatesPastCapacityAreFoldedInBatchesOrByBruteForceWithTheSame
                                 name + " ray at x " + std::to_string(x));
         }
         expect_images_identical(name, scene);
-        std::printf("%s: fell back %s, shadow transmittance %g\n", name.c_str(), over ? "yes" : "no",
+        std::printf("%s: folded in rounds %s, shadow transmittance %g\n", name.c_str(), over ? "yes" : "no",
                     static_cast<double>(bvh_shadow.lane(0)));
     }
 }
@@ -418,7 +418,7 @@ TEST_F(Bvh, TransmissionFactorsFallBackToBruteForcePastCapacityWithTheSameAnswer
                                 name + " ray to the floor at x " + std::to_string(x));
         }
         expect_images_identical(name, scene);
-        std::printf("%s: fell back %s, shadow transmittance %g\n", name.c_str(), over ? "yes" : "no",
+        std::printf("%s: folded in rounds %s, shadow transmittance %g\n", name.c_str(), over ? "yes" : "no",
                     static_cast<double>(bvh_shadow.lane(0)));
     }
 }

@@ -7,6 +7,7 @@
 #include "sse/cpu.h"
 #include "sse/tracer.h"
 #include "tests/gltf_files.h"
+#include "tests/scene_json.h"
 #include "tests/test_output.h"
 
 #include <gtest/gtest.h>
@@ -23,17 +24,7 @@
 namespace twinray {
 namespace {
 
-const std::string header = R"({
-  "format": "twinray-scene/1",
-  "image": { "width": 80, "height": 60 },
-  "camera": { "eye": [0.3, 3, 7], "look_at": [0, 0.5, -1] },
-  "materials": {
-    "glass": { "color": [1, 1, 1], "diffuse": 0.1, "reflection": 0.1, "transmission": 0.8, "ior": 1.5 },
-    "red": { "color": [0.9, 0.2, 0.1], "diffuse": 0.7, "phong": 0.4 },
-    "blue": { "color": [0.2, 0.3, 0.9], "diffuse": 0.7, "reflection": 0.3 }
-  },
-  "lights": [ { "position": [-3, 6, 4] }, { "position": [4, 3, 2], "color": [0.4, 0.4, 0.5] } ],
-)";
+const std::string header = test::json::lit_scene_opening(80, 60, {0.3, 3, 7});
 
 // An octahedron, closed and wound outward, its vertices on a binary grid; smooth, so that its shading normals are
 // carried out of object space too.

@@ -120,6 +120,12 @@ std::array<int, 3> levels_of(const twinray::Rgb& p) {
     return {level(p.r), level(p.g), level(p.b)};
 }
 
+// The largest difference of a channel between two pixels, in 8-bit levels.
+int levels_apart(const twinray::Rgb& p, const twinray::Rgb& q) {
+    const std::array<int, 3> a = levels_of(p), b = levels_of(q);
+    return std::max({std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2])});
+}
+
 using RefTracer = twinray::reference::Tracer<double>;
 using RefVec = twinray::reference::Vec3<double>;
 using RefRay = twinray::reference::Ray<double>;
@@ -262,9 +268,7 @@ Measurement measure(const Image& pov, const Image& reference, const Image& pov_i
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             std::size_t i = index_of(x, y, width);
-            std::array<int, 3> a = levels_of(pov.at(x, y));
-            std::array<int, 3> b = levels_of(reference.at(x, y));
-            int error = std::max({std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2])});
+            int error = levels_apart(pov.at(x, y), reference.at(x, y));
             within_2 += error <= 2 ? 1 : 0;
             identical += error == 0 ? 1 : 0;
             m.max_levels = std::max(m.max_levels, error);
@@ -467,9 +471,8 @@ TEST(PovExporter, AGltfFilesMeshIsDeclaredOnceAndEachNodePlacesItAsTheReferenceR
     int red = 0;  // pixels of the gems, so that the comparison is about them
     for (int y = 0; y < scene.height; ++y) {
         for (int x = 0; x < scene.width; ++x) {
-            const std::array<int, 3> a = levels_of(pov->at(x, y));
+            within_2 += levels_apart(pov->at(x, y), reference.at(x, y)) <= 2;
             const std::array<int, 3> b = levels_of(reference.at(x, y));
-            within_2 += std::abs(a[0] - b[0]) <= 2 && std::abs(a[1] - b[1]) <= 2 && std::abs(a[2] - b[2]) <= 2;
             red += b[0] > 2 * b[2] + 10;
         }
     }
@@ -543,9 +546,7 @@ TEST(PovExporter, ACsgShapeIsDeclaredOnceForEachMaterialItsInstancesGiveItAndEac
     int on_beads = 0;
     for (int y = 0; y < scene.height; ++y) {
         for (int x = 0; x < scene.width; ++x) {
-            const std::array<int, 3> a = levels_of(pov->at(x, y));
-            const std::array<int, 3> b = levels_of(reference.at(x, y));
-            within_2 += std::abs(a[0] - b[0]) <= 2 && std::abs(a[1] - b[1]) <= 2 && std::abs(a[2] - b[2]) <= 2;
+            within_2 += levels_apart(pov->at(x, y), reference.at(x, y)) <= 2;
             const twinray::Rgb& id_pixel = pov_ids->at(x, y);
             const int pov_id = twinray::pov::decode_object_id(level(id_pixel.r), level(id_pixel.g));
             const int reference_id = ids[index_of(x, y, scene.width)];

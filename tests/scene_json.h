@@ -46,6 +46,24 @@ inline std::string cylinder(const scene::Vec3& base, const scene::Vec3& cap, dou
            ", \"radius\": " + number(radius) + material_key(material) + "}";
 }
 
+// A scene file's opening, up to its shapes or objects: width × height pixels seen from `eye` towards (0, 0.5, −1), a
+// glass, a red and a blue material, and two lights. What the instance suites place their objects in.
+inline std::string lit_scene_opening(int width, int height, const scene::Vec3& eye) {
+    return R"({
+  "format": "twinray-scene/1",
+  "image": { "width": )" +
+           std::to_string(width) + R"(, "height": )" + std::to_string(height) + R"( },
+  "camera": { "eye": )" +
+           vec3(eye) + R"(, "look_at": [0, 0.5, -1] },
+  "materials": {
+    "glass": { "color": [1, 1, 1], "diffuse": 0.1, "reflection": 0.1, "transmission": 0.8, "ior": 1.5 },
+    "red": { "color": [0.9, 0.2, 0.1], "diffuse": 0.7, "phong": 0.4 },
+    "blue": { "color": [0.2, 0.3, 0.9], "diffuse": 0.7, "reflection": 0.3 }
+  },
+  "lights": [ { "position": [-3, 6, 4] }, { "position": [4, 3, 2], "color": [0.4, 0.4, 0.5] } ],
+)";
+}
+
 // `op`: "union", "intersection" or "difference".
 inline std::string csg(std::string_view op, const std::vector<std::string>& children, std::string_view material) {
     std::string text = "{\"type\": \"" + std::string(op) + "\"" + material_key(material) + ", \"children\": [";

@@ -7,6 +7,7 @@
 #include "scene/loader.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
+#include "tests/scene_json.h"
 
 #include <gtest/gtest.h>
 
@@ -21,17 +22,7 @@
 namespace twinray {
 namespace {
 
-const std::string header = R"({
-  "format": "twinray-scene/1",
-  "image": { "width": 96, "height": 72 },
-  "camera": { "eye": [0.25, 3, 7], "look_at": [0, 0.5, -1] },
-  "materials": {
-    "glass": { "color": [1, 1, 1], "diffuse": 0.1, "reflection": 0.1, "transmission": 0.8, "ior": 1.5 },
-    "red": { "color": [0.9, 0.2, 0.1], "diffuse": 0.7, "phong": 0.4 },
-    "blue": { "color": [0.2, 0.3, 0.9], "diffuse": 0.7, "reflection": 0.3 }
-  },
-  "lights": [ { "position": [-3, 6, 4] }, { "position": [4, 3, 2], "color": [0.4, 0.4, 0.5] } ],
-)";
+const std::string header = test::json::lit_scene_opening(96, 72, {0.25, 3, 7});
 
 // A cup with a handle: a cylinder hollowed by a sphere, a box beside it, an ellipsoid (a sphere scaled unevenly,
 // held in the shape's own space) on top; the box names its own material.

@@ -19,9 +19,9 @@ namespace twinray::sse {
 // Tag bits of a nearest hit: the crossing's tag (face, flipped) plus whether the ray enters there.
 constexpr std::int32_t tag_entering = 0x20;
 
-// Whether a packet's walk outgrew a fixed capacity and fell back to brute force (CsgCandidates in
-// bvh_traversal.h, TransmissionFactors in shadow.h). The answer is the same either way; tests read this to
-// prove that the fallbacks run (bvh_test.cpp).
+// Whether a packet's walk outgrew a fixed capacity: CSG candidates then folded in rounds, each after a walk again
+// (CsgCandidates in bvh_traversal.h), transmission factors by brute force (TransmissionFactors in shadow.h). The
+// answer is the same either way; tests read this to prove that the fallbacks run (bvh_test.cpp).
 struct Fallbacks {
     bool csg_candidates = false;
     bool transmission_factors = false;
@@ -281,8 +281,11 @@ public:
             }
         }
         if (!scene_.csg_objects.empty()) {
-            nearest_csg_crossings(rays, nearest, [&](auto&& visit) { csg.for_each(scene_, visit); });
-            if (fallbacks != nullptr && csg.overflowed()) {
+            nearest_csg_crossings(rays, nearest, [&](auto&& visit) {
+                csg.for_each(
+                    scene_, [&] { collect_csg_again(scene_, BvhRays(rays), rays.active, nearest.t, csg); }, visit);
+            });
+            if (fallbacks != nullptr && csg.walked_again()) {
                 fallbacks->csg_candidates = true;
             }
         }
@@ -365,7 +368,9 @@ public:
                 }
             }
         }
-        csg.for_each(scene_, [&](const CsgObject& object) {
+        const vfloat4 limit(distance);
+        auto walk_again = [&] { collect_csg_again(scene_, BvhRays(rays), rays.active, limit, csg); };
+        csg.for_each(scene_, walk_again, [&](const CsgObject& object) {
             SpanArray spans;
             const CsgEvaluation<P> evaluation(scene_, object, rays);
             evaluation.evaluate(0, spans);

@@ -241,8 +241,11 @@ public:
         }
         alignas(16) float product[4];
         transmittance.store(product);
-        multiply_csg(rays, distance, open, product, [&](auto&& visit) { csg.for_each(scene_, visit); });
-        if (fallbacks != nullptr && csg.overflowed()) {
+        multiply_csg(rays, distance, open, product, [&](auto&& visit) {
+            csg.for_each(
+                scene_, [&] { collect_csg_again(scene_, BvhRays(rays), lanes, distance, csg); }, visit);
+        });
+        if (fallbacks != nullptr && csg.walked_again()) {
             fallbacks->csg_candidates = true;
         }
         return vfloat4::load(product);
