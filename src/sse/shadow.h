@@ -134,13 +134,8 @@ public:
                 for_each_leaf_met(scene_.bvh, scene_.bvh.items, box_rays, open, distance, [&](BvhLeaf leaf) {
                     for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle,
                                              [&](std::uint32_t box_place) { block_instance(box_rays, box_place); });
-                    if (csg.nearly_full()) {
-                        // Opaque: whichever object a ray crosses first closes its lane, in any order.
-                        alignas(16) float product[4];
-                        select(open, one, zero).store(product);
-                        multiply_csg(rays, distance, open, product,
-                                     [&](auto&& visit) { csg.fold_held(scene_, visit); });
-                        open = open & (vfloat4::load(product) > zero);
+                    if (csg.nearly_full()) [[unlikely]] {
+                        fold_held_csg(rays, distance, open, csg);
                     }
                 });
             } else if (scene_.bvh.empty()) {
@@ -252,6 +247,16 @@ public:
     }
 
 private:
+    // Closes the `open` lanes that cross a CSG object held: opaque, whichever object a ray crosses first closes its
+    // lane, in any order. Out of line, as NearestHit::fold_held_csg: a scene without CSG objects never calls it.
+    [[gnu::noinline]] void fold_held_csg(const RayPacket& rays, vfloat4 distance, vbool4& open,
+                                         CsgCandidates& csg) const {
+        alignas(16) float product[4];
+        select(open, vfloat4(1.0f), vfloat4(0.0f)).store(product);
+        multiply_csg(rays, distance, open, product, [&](auto&& visit) { csg.fold_held(scene_, visit); });
+        open = open & (vfloat4::load(product) > vfloat4(0.0f));
+    }
+
     // Multiplies product[lane] by the transmission of each surface of the CSG objects `for_each_candidate(visit)`
     // visits that an `open` lane's ray crosses before `distance`, object after object in the order visited.
     template <typename ForEachCandidate>
