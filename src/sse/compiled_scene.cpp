@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 
 namespace twinray::sse {
@@ -701,9 +702,13 @@ InstanceBox instance_box(const CompiledScene& scene, std::uint32_t record) {
     const __m128 reach = _mm_max_ss(_mm_max_ss(far, _mm_movehl_ps(far, far)), _mm_shuffle_ps(far, far, 1));
     const __m128 pad = _mm_mul_ss(reach, _mm_set_ss(static_cast<float>(bvh_padding)));
     const __m128 padded = _mm_add_ps(half, _mm_shuffle_ps(pad, pad, 0));
+    // A shape reaching past float's range (a vertex at 1e290) has an infinite box, and ∞ − ∞ makes its instance's faces
+    // NaN, which a box test then passes for brute force and drops for the BVH's ordering by entry: such a face is the
+    // whole axis. maxps and minps give their second operand where either is NaN.
+    const __m128 everywhere = _mm_set1_ps(std::numeric_limits<float>::infinity());
     alignas(16) float low[4], high[4];
-    _mm_store_ps(low, _mm_sub_ps(center, padded));
-    _mm_store_ps(high, _mm_add_ps(center, padded));
+    _mm_store_ps(low, _mm_max_ps(_mm_sub_ps(center, padded), _mm_sub_ps(_mm_setzero_ps(), everywhere)));
+    _mm_store_ps(high, _mm_min_ps(_mm_add_ps(center, padded), everywhere));
     return {{low[0], low[1], low[2]}, {high[0], high[1], high[2]}, record};
 }
 
