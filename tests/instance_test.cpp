@@ -257,6 +257,34 @@ TEST_F(ExactInstances, TheSseTracerGivenUpTheGeometryRendersTheSameImage) {
     }
 }
 
+// A shape whose box reaches past float's range (one vertex at 1.86e290) is still met where its ordinary triangles are:
+// its instance's box in the SSE tracer was centre ± half extent, ∞ − ∞ made its faces NaN, and a turned instance was
+// missed with and without the BVH (a fuzz input: tests/data/fuzz_regressions/bvh_differential). Both SSE walks now
+// meet its first triangle as the reference does.
+TEST(Instances, AShapeReachingPastFloatsRangeIsMetWhereItsOrdinaryTrianglesAre) {
+    if (!sse::cpu_supports_sse41()) {
+        GTEST_SKIP() << sse::missing_sse41_message();
+    }
+    const scene::Scene scene = scene::parse_scene(header + R"(
+      "shapes": { "far_reaching": {"type": "mesh", "vertices": [[-4, -2, 1], [4, -1.40625, 0], [-1, -1.640625, -2],
+                                                                 [2, -3, 1.859375e290]],
+                                   "triangles": [[0, 1, 2], [0, 2, 3]]} },
+      "objects": [ { "type": "instance", "shape": "far_reaching", "transform": [{"rotate": [0, 0, 30]}] } ]})",
+                                                  "<far reaching>");
+    const scene::Vec3 origin{-1, -3, -0.0001734375}, direction{0, 1, 0};
+    const auto expected = reference::Tracer<double>(scene).intersect({origin, direction});
+    ASSERT_TRUE(expected.has_value());
+    ASSERT_EQ(expected->triangle, 0);
+    for (Accel accel : {Accel::none, Accel::bvh}) {
+        const auto hit = sse::Tracer(scene, {}, accel).intersect({origin, sse::Vec3(direction)});
+        const char* walk = accel == Accel::bvh ? "bvh" : "brute force";
+        ASSERT_TRUE(hit.has_value()) << walk << ": the reference meets triangle 0 at t " << expected->t;
+        EXPECT_EQ(hit->leaf, 0) << walk;
+        EXPECT_EQ(hit->triangle, 0) << walk;
+        EXPECT_NEAR(hit->t, expected->t, 1e-5 * expected->t) << walk;
+    }
+}
+
 // ---------------------------------------------------------------------------------------------------
 // A glTF file's nodes (tests/gltf_files.h: one octahedron placed by three nodes under a parent that halves and lifts
 // them): instances of one mesh shape at the top level, one mesh placed by them in `shapes`.
