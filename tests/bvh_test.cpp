@@ -354,15 +354,31 @@ TEST_F(Bvh, CsgCandidatesPastCapacityAreFoldedInBatchesOrInRoundsWithTheSameAnsw
     }
 }
 
-// Past TransmissionFactors::capacity (128) transparent primitives crossed, a shadow packet multiplies every
-// primitive as brute force does. `count` glass spheres on the line from the floor at the origin to the first
-// light: shadow rays from there cross each twice.
-Scene veil_column(std::size_t count) {
+// Past TransmissionFactors::capacity (128) transparent primitives crossed, a shadow packet multiplies them in rounds of
+// list order, walking again for each. `count` glass spheres on the line from the floor at the origin to the first
+// light: shadow rays from there cross each twice. And, with `mesh_triangles`, a glass mesh of that many triangles
+// across the same line, each crossed once: one key (its leaf) past a round's capacity, which brute force multiplies.
+Scene veil_column(std::size_t count, std::size_t mesh_triangles = 0) {
     const twinray::Vec3d floor(0, -12, 0), light(-20, 30, 20);
     std::vector<std::string> objects;
     for (std::size_t k = 1; k <= count; ++k) {
         twinray::Vec3d at = floor + (static_cast<double>(k) / static_cast<double>(count + 1)) * (light - floor);
         objects.push_back(sphere(at.x, at.y, at.z, 0.1, 2));
+    }
+    if (mesh_triangles > 0) {
+        std::string vertices, triangles;
+        for (std::size_t k = 0; k < mesh_triangles; ++k) {
+            // Between the spheres, across the line: a triangle in the plane y = const around the line's point.
+            const double f = (static_cast<double>(k) + 0.5) / static_cast<double>(mesh_triangles);
+            const twinray::Vec3d at = floor + (0.05 + 0.9 * f) * (light - floor);
+            for (const auto& [dx, dz] : {std::pair{-0.5, -0.5}, std::pair{0.5, -0.5}, std::pair{0.0, 0.6}}) {
+                vertices += (vertices.empty() ? "" : ", ") + json::vec3({at.x + dx, at.y, at.z + dz});
+            }
+            triangles += (triangles.empty() ? "[" : ", [") + std::to_string(3 * k) + ", " + std::to_string(3 * k + 1) +
+                         ", " + std::to_string(3 * k + 2) + "]";
+        }
+        objects.push_back(R"({"type": "mesh", "material": "glass", "vertices": [)" + vertices + "], \"triangles\": [" +
+                          triangles + "]}");
     }
     return scene_of(objects);
 }
@@ -389,11 +405,11 @@ ColumnShadows expect_same_column_shadows(const twinray::sse::CompiledScene& brut
     return shadows;
 }
 
-TEST_F(Bvh, TransmissionFactorsFallBackToBruteForcePastCapacityWithTheSameAnswers) {
+TEST_F(Bvh, TransmissionFactorsPastCapacityAreMultipliedInRoundsWithTheSameAnswers) {
     using namespace twinray::sse;
     static_assert(100 < TransmissionFactors::capacity && TransmissionFactors::capacity < 150,
                   "the columns straddle the capacity");
-    for (std::size_t count : {std::size_t{100}, std::size_t{150}}) {
+    for (std::size_t count : {std::size_t{100}, std::size_t{150}, std::size_t{200}}) {
         const std::string name = "column of " + std::to_string(count) + " glass spheres";
         Scene scene = veil_column(count);
         CompiledScene brute = compile(scene, Accel::none);
@@ -418,9 +434,18 @@ TEST_F(Bvh, TransmissionFactorsFallBackToBruteForcePastCapacityWithTheSameAnswer
                                 name + " ray to the floor at x " + std::to_string(x));
         }
         expect_images_identical(name, scene);
-        std::printf("%s: folded in rounds %s, shadow transmittance %g\n", name.c_str(), over ? "yes" : "no",
+        std::printf("%s: multiplied in rounds %s, shadow transmittance %g\n", name.c_str(), over ? "yes" : "no",
                     static_cast<double>(bvh_shadow.lane(0)));
     }
+    // A round of the spheres, then one of a single mesh's 150 triangles, more than a round holds of one key: the
+    // spheres already multiplied are undone and brute force multiplies everything.
+    Scene scene = veil_column(100, 150);
+    const CompiledScene brute = compile(scene, Accel::none), bvh = compile(scene, Accel::bvh);
+    ASSERT_FALSE(bvh.bvh.empty());
+    const vfloat4 bvh_shadow = expect_same_column_shadows(brute, bvh, true, "100 spheres and a mesh of 150").bvh;
+    const double expected = std::pow(0.8, 2.0 * 100 + 150);
+    EXPECT_NEAR(bvh_shadow.lane(0) / expected, 1.0, 1e-3) << "every sphere twice and every triangle once";
+    expect_images_identical("100 spheres and a mesh of 150", scene);
 }
 
 // The scenes of the file-order tests up to their floor (objects follow): the light at the column's top and

@@ -24,7 +24,7 @@ struct BvhRays {
     Vec3x4 high_face_origin;  // o − δ
     Vec3x4 inverse_direction;
 
-    explicit BvhRays(const RayPacket& rays) {
+    TWINRAY_KERNEL explicit BvhRays(const RayPacket& rays) {
         vfloat4 delta = vfloat4(static_cast<float>(bvh_padding)) * max_abs_component(rays.origin) + vfloat4(1e-30f);
         for (int axis = 0; axis < 3; ++axis) {
             low_face_origin[axis] = rays.origin[axis] + delta;

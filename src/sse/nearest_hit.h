@@ -20,8 +20,9 @@ namespace twinray::sse {
 constexpr std::int32_t tag_entering = 0x20;
 
 // Whether a packet's walk outgrew a fixed capacity: CSG candidates then folded in rounds, each after a walk again
-// (CsgCandidates in bvh_traversal.h), transmission factors by brute force (TransmissionFactors in shadow.h). The
-// answer is the same either way; tests read this to prove that the fallbacks run (bvh_test.cpp).
+// (CsgCandidates in bvh_traversal.h), transmission factors multiplied in rounds too, or by brute force where one
+// mesh's crossings fill a round (TransmissionFactors in shadow.h). The answer is the same either way; tests read this
+// to prove that the fallbacks run (bvh_test.cpp).
 struct Fallbacks {
     bool csg_candidates = false;
     bool transmission_factors = false;
