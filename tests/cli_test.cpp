@@ -409,35 +409,10 @@ TEST_F(CliTest, BenchGivesAPluginItsRowWhereItCanTraceTheScene) {
 }
 
 // The scaling tables alone, at the smallest size: one row per family in each, every table in its CSV file.
-TEST_F(CliTest, BenchScalingOnlyWritesItsTables) {
-    CommandResult result =
-        run_twinray("bench --scaling-only --scaling-max 10 --runs 1 --width 16 --no-peers --no-floor --csv " +
-                    output("bench.csv") + " --markdown " + output("bench.md"));
-    ASSERT_EQ(result.exit_status, 0) << result.output;
-    EXPECT_FALSE(fs::exists(output("bench.csv"))) << "no scene was rendered";
-    for (const char* table : {"scaling", "scaling-peers", "scaling-build", "scaling-threads"}) {
-        std::ifstream csv(output(std::string("bench-") + table + ".csv"));
-        std::string line;
-        int rows = -1;  // the header
-        while (std::getline(csv, line)) {
-            ++rows;
-        }
-        EXPECT_EQ(rows, 5) << table << ": spheres, fractal, lattice, sphere-mesh, tetra";
-    }
-    EXPECT_FALSE(fs::exists(output("bench-scaling-floor.csv"))) << "--no-floor";
-    std::ifstream markdown(output("bench.md"));
-    std::string text((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
-    EXPECT_NE(text.find("| lattice | 9 |"), std::string::npos) << text;
-}
-
-// The memory floor beside the scaling: a load that misses to DRAM waits far longer than an L1 hit, and many in
-// flight at once cost each far less than one alone (what a floor of overlapped misses rests on).
-TEST_F(CliTest, BenchScalingMeasuresTheMemoryFloor) {
-    CommandResult result = run_twinray("bench --scaling-only --scaling-max 10 --runs 1 --width 16 --no-peers --csv " +
-                                       output("floor.csv"));
-    ASSERT_EQ(result.exit_status, 0) << result.output;
-    std::ifstream csv(output("floor-scaling-floor.csv"));
-    std::map<std::string, std::pair<double, double>> loads;  // first column: dependent, 32 in flight, ns per load
+// A CSV table's rows, each its fields (no field of the bench's holds a comma), the header left out.
+std::vector<std::vector<std::string>> csv_rows(const std::string& path) {
+    std::ifstream csv(path);
+    std::vector<std::vector<std::string>> rows;
     std::string line;
     std::getline(csv, line);
     while (std::getline(csv, line)) {
@@ -446,6 +421,56 @@ TEST_F(CliTest, BenchScalingMeasuresTheMemoryFloor) {
         for (std::string field; std::getline(row, field, ',');) {
             fields.push_back(field);
         }
+        rows.push_back(fields);
+    }
+    return rows;
+}
+
+// The scaling tables alone, and the crossover of --accel auto: every grid's images the same through the BVH and by
+// brute force, each grid weighed as relative_test_cost says, and auto's choice where its weight passes the crossover
+// (48 sphere tests matte, 24 glass). Its times at 8 pixels wide are noise: the bench's to judge, not a test's.
+TEST_F(CliTest, BenchScalingOnlyWritesItsTables) {
+    CommandResult result =
+        run_twinray("bench --scaling-only --scaling-max 10 --runs 1 --width 16 --no-peers --no-floor --csv " +
+                    output("bench.csv") + " --markdown " + output("bench.md"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_FALSE(fs::exists(output("bench.csv"))) << "no scene was rendered";
+    for (const char* table : {"scaling", "scaling-peers", "scaling-build", "scaling-threads"}) {
+        EXPECT_EQ(csv_rows(output(std::string("bench-") + table + ".csv")).size(), 5u)
+            << table << ": spheres, fractal, lattice, sphere-mesh, tetra";
+    }
+    EXPECT_FALSE(fs::exists(output("bench-scaling-floor.csv"))) << "--no-floor";
+    std::ifstream markdown(output("bench.md"));
+    std::string text((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("| lattice | 9 |"), std::string::npos) << text;
+
+    const std::map<std::string, double> weight_of_object = {
+        {"sphere", 1.0},    {"cylinder", 1.0},       {"box", 2.7},
+        {"ellipsoid", 2.7}, {"csg difference", 5.9}, {"triangle", 24.8}};
+    const std::vector<std::vector<std::string>> grids = csv_rows(output("bench-scaling-crossover.csv"));
+    EXPECT_EQ(grids.size(), 6u * 2u * 12u) << "kinds, matte and glass, sizes";
+    for (const std::vector<std::string>& grid : grids) {
+        ASSERT_EQ(grid.size(), 10u);
+        const std::string name = grid[0] + ", " + grid[1] + ", " + grid[2] + " objects";
+        const double weight = weight_of_object.at(grid[0]) * std::stod(grid[2]);
+        EXPECT_NEAR(std::stod(grid[4]), weight, 0.051) << name;
+        const double crossover = grid[1] == "matte" ? 48 : 24;
+        EXPECT_EQ(grid[5], weight > crossover ? "bvh" : "brute force") << name << ", weight " << weight;
+        EXPECT_EQ(grid[9], "yes") << name << ": the images through the BVH and by brute force differ";
+    }
+    EXPECT_EQ(csv_rows(output("bench-scaling-crossover-summary.csv")).size(), 6u * 2u);
+}
+
+// The memory floor beside the scaling: a load that misses to DRAM waits far longer than an L1 hit, and many in
+// flight at once cost each far less than one alone (what a floor of overlapped misses rests on).
+TEST_F(CliTest, BenchScalingMeasuresTheMemoryFloor) {
+    CommandResult result =
+        run_twinray("bench --scaling-only --scaling-max 10 --runs 1 --width 16 --no-peers --no-crossover --csv " +
+                    output("floor.csv"));
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    EXPECT_FALSE(fs::exists(output("floor-scaling-crossover.csv"))) << "--no-crossover";
+    std::map<std::string, std::pair<double, double>> loads;  // first column: dependent, 32 in flight, ns per load
+    for (const std::vector<std::string>& fields : csv_rows(output("floor-scaling-floor.csv"))) {
         if (fields.size() == 4 && !fields[2].empty()) {
             loads[fields[0].substr(0, 2)] = {std::stod(fields[2]), std::stod(fields[3])};
         }

@@ -230,6 +230,11 @@ std::vector<std::string> default_scenes() {
     return paths;
 }
 
+// Half the bench's width: 320 by default, at which 128 glass CSG objects by brute force take about a second a frame.
+int crossover_width(const BenchArguments& arguments) {
+    return std::max(1, arguments.width / 2);
+}
+
 Report empty_report(int all_threads, const BenchArguments& arguments) {
     std::string setting =
         "median of " + std::to_string(arguments.runs) + " runs, width " + std::to_string(arguments.width);
@@ -345,6 +350,27 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
         "one chase at a time and 32 interleaved; median of " +
         std::to_string(arguments.runs) + " runs)";
     report.scaling_floor.headers = {"load", "buffer", "dependent ns/load", "32 in flight ns/load"};
+    const std::string crossover_setting = "the SSE tracer, CPU time of one thread per ray (every ray), " +
+                                          std::to_string(crossover_width(arguments)) + " wide, median of " +
+                                          std::to_string(arguments.runs) + " alternated runs";
+    report.scaling_crossover.title =
+        "Scaling: the crossover of --accel auto, brute force against the BVH on a grid of each kind on a floor (" +
+        crossover_setting + "); auto's weight: what brute force spends a packet, in sphere tests, a BVH above " +
+        std::to_string(sse::bvh_crossover) + ", or " + std::to_string(sse::bvh_crossover_with_secondary_rays) +
+        " where a material reflects or transmits";
+    report.scaling_crossover.headers = {
+        "kind",        "material",     "objects",    "primitives", "auto weight",
+        "auto builds", "brute ns/ray", "bvh ns/ray", "bvh/brute",  "images bit-identical"};
+    report.scaling_crossover_summary.title =
+        "Scaling: where the BVH pays (faster at that size and every larger one) and where --accel auto builds it (" +
+        crossover_setting + ")";
+    report.scaling_crossover_summary.headers = {"kind",
+                                                "material",
+                                                "bvh faster from objects",
+                                                "its auto weight",
+                                                "auto's bvh from objects",
+                                                "its auto weight",
+                                                "sizes where auto's choice is over 5% slower"};
     return report;
 }
 
@@ -365,7 +391,9 @@ std::vector<Output> outputs_of(const Report& report) {
             {&report.scaling_peers, "scaling-peers"},
             {&report.scaling_build, "scaling-build"},
             {&report.scaling_threads, "scaling-threads"},
-            {&report.scaling_floor, "scaling-floor"}};
+            {&report.scaling_floor, "scaling-floor"},
+            {&report.scaling_crossover, "scaling-crossover"},
+            {&report.scaling_crossover_summary, "scaling-crossover-summary"}};
 }
 
 // The tables with rows, as Markdown in one file and as CSV: FILE, FILE-summary.csv, FILE-povray.csv, ...
@@ -452,6 +480,9 @@ int run_bench(const BenchArguments& arguments) {
             std::fputs("scaling: the memory floor\n", stderr);
             bench_memory_floor(arguments.runs, report);
         }
+        if (arguments.crossover) {
+            bench_crossover(crossover_width(arguments), arguments.runs, report);
+        }
     }
     std::vector<Output> outputs;
     for (const Output& output : outputs_of(report)) {
@@ -510,6 +541,9 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
     command->add_flag("!--no-peers", arguments->peers, "Leave out POV-Ray and the first-hit table (Embree)");
     command->add_flag("!--no-floor", arguments->floor,
                       "Leave out --scaling's memory floor of this machine (a few seconds, a minute under a sanitizer)");
+    command->add_flag("!--no-crossover", arguments->crossover,
+                      "Leave out --scaling's crossover of --accel auto: grids of each kind, brute force against the "
+                      "BVH (about two minutes)");
     add_accel_option(*command, arguments->accel);
     add_plugin_option(*command, arguments->plugins);
     command->add_option("--csv", arguments->csv_path,

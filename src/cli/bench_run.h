@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -27,7 +28,8 @@ struct BenchArguments {
     bool scaling_only = false;    // the scaling tables alone, no scene of `scenes`
     int scaling_max = 1'000'000;  // the largest size the scaling asks a family for
     bool peers = true;
-    bool floor = true;  // --scaling's memory floor of this machine (bench_floor.cpp)
+    bool floor = true;      // --scaling's memory floor of this machine (bench_floor.cpp)
+    bool crossover = true;  // --scaling's crossover of --accel auto (bench_crossover.cpp)
     std::string csv_path;
     std::string markdown_path;
     Accel accel = Accel::automatic;    // of every configuration's tracer
@@ -46,6 +48,8 @@ struct Report {
     // --scaling: time per ray, first hits against Embree and renders against POV-Ray, the BVH's build, threads.
     BenchTable scaling, scaling_peers, scaling_build, scaling_threads;
     BenchTable scaling_floor;  // the caches' and DRAM's time per line, what a time per ray is set against
+    // Brute force against the BVH on grids of each kind, and where the BVH starts to pay beside what auto builds.
+    BenchTable scaling_crossover, scaling_crossover_summary;
 };
 
 // Every knob that can buy speed (--precision fast); dpps is the thesis's choice, timed on its own.
@@ -54,6 +58,11 @@ inline sse::Precision all_fast_knobs() {
 }
 
 using math::median;
+
+inline bool same_bits(const Image& a, const Image& b) {
+    return a.width() == b.width() && a.height() == b.height() &&
+           std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(Rgb)) == 0;
+}
 
 inline double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -99,6 +108,9 @@ void bench_first_hits(const std::string& name, const scene::Scene& scene, int wi
 // `povray` is given), the BVH's build, and one thread against all (bench_scaling.cpp).
 void bench_scaling(const BenchArguments& arguments, int all_threads, const std::optional<std::filesystem::path>& povray,
                    Report& report);
+// Grids of 1 to 128 objects of each kind of bounded primitive, matte and glass: the SSE tracer by brute force and
+// through its BVH at `width`, and the weight Accel::automatic gives each grid (bench_crossover.cpp).
+void bench_crossover(int width, int runs, Report& report);
 // The time of a load hitting each cache level and missing to DRAM, one at a time and overlapped (bench_floor.cpp).
 void bench_memory_floor(int runs, Report& report);
 

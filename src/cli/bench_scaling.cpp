@@ -15,7 +15,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -138,11 +137,6 @@ int affordable_width(const scene::Scene& scene, int base_width, const Trend& tre
 
 double median_ns_per_ray(const std::vector<double>& seconds, std::uint64_t rays) {
     return median(seconds) * 1e9 / static_cast<double>(rays);
-}
-
-bool same_bits(const Image& a, const Image& b) {
-    return a.width() == b.width() && a.height() == b.height() &&
-           std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(Rgb)) == 0;
 }
 
 void progress(const std::string& text) {

@@ -106,9 +106,10 @@ void add_accel_option(CLI::App& command, Accel& accel) {
                 accel = name == "none" ? Accel::none : name == "bvh" ? Accel::bvh : Accel::automatic;
             },
             "auto (the default: sse builds a BVH where testing every bounded object would cost more than " +
-                std::to_string(sse::bvh_crossover) +
-                " sphere tests, a box counting 2.7, a triangle 6.2, a CSG object its primitives and 2.2; the "
-                "reference where they hold more than " +
+                std::to_string(sse::bvh_crossover) + " sphere tests, or " +
+                std::to_string(sse::bvh_crossover_with_secondary_rays) +
+                " where a material reflects or transmits, a box counting 2.7, a triangle 6.2, a CSG object its "
+                "primitives and 2.2; the reference where they hold more than " +
                 std::to_string(reference::bvh_crossover) +
                 " primitives), none (every ray tests every object) or bvh; the image is the same")
         ->check(CLI::IsMember({"auto", "none", "bvh"}));

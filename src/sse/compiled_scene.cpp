@@ -169,8 +169,9 @@ public:
             out.shapes.push_back(compile_shape(*shape.data, shape_bounds.back()));
             shape_costs.push_back(shape_cost(out.shapes.back()));
         }
-        const bool with_bvh = accel_ == Accel::bvh || (accel_ == Accel::automatic &&
-                                                       bounded_cost(shape_costs) > static_cast<double>(bvh_crossover));
+        out.brute_force_weight = bounded_cost(shape_costs);
+        const bool with_bvh = accel_ == Accel::bvh ||
+                              (accel_ == Accel::automatic && out.brute_force_weight > static_cast<double>(crossover()));
         // The BVH's inputs, made only for a BVH (32 bytes an item).
         LargeArray<BvhInput> bounded;
         if (with_bvh) {
@@ -312,6 +313,12 @@ private:
             }
         }
         put_in_leaf_order(out, unbounded, keep_triangle_file_order);
+    }
+
+    // What the bounded items' weight is held against: lower where rays may be reflected or refracted.
+    std::size_t crossover() const {
+        const bool secondary_rays = scene_.max_depth > 1 && (scene_.has_reflection() || scene_.has_transparency());
+        return secondary_rays ? bvh_crossover_with_secondary_rays : bvh_crossover;
     }
 
     // What the choice of a BVH weighs: what brute force would spend on the bounded items, in sphere tests.

@@ -333,6 +333,9 @@ struct CompiledScene {
     // the rest (planes, unbounded CSG objects) are tested by every ray.
     Bvh bvh;
     double bvh_build_cpu_seconds = 0;  // build_bvh alone (one thread), for twinray bench
+    // What brute force would spend per packet on the bounded items, in sphere tests: Accel::automatic builds the BVH
+    // above bvh_crossover (twinray bench --scaling's crossover table sets it beside the measured one).
+    double brute_force_weight = 0;
     PrimitiveLists unbounded;
     std::vector<std::int32_t> unbounded_csg;  // indices into csg_objects, ascending
 

@@ -68,9 +68,13 @@ std::string precision_name(const Precision& precision);
 
 // With Accel::automatic (render/render.h) the tracer builds its BVH (docs/sse-tracer.md) where brute force
 // would spend more than bvh_crossover sphere tests per packet on the bounded objects: each primitive weighed
-// by its kind's relative_test_cost (a box 2.7, a triangle 6.2, a CSG object its leaves and 2.2), the count of
-// spheres from which it measured faster (docs/performance.md, "The BVH").
-constexpr std::size_t bvh_crossover = 64;
+// by its kind's relative_test_cost (a box 2.7, a triangle 6.2, a CSG object its leaves and 2.2). Where rays may be
+// reflected or refracted (max_depth above 1 and a leaf whose material reflects or transmits), above
+// bvh_crossover_with_secondary_rays: those rays leave the coherent packets that tile culling serves, and brute force
+// tests every bounded object for each. Both measured per kind, matte and glass, by `twinray bench --scaling`'s
+// crossover table (docs/performance.md, "The BVH").
+constexpr std::size_t bvh_crossover = 48;
+constexpr std::size_t bvh_crossover_with_secondary_rays = 24;
 
 // The point the tracer compiles a scene relative to, in double (re-basing, docs/numerics.md): the eye
 // where that makes the scene's coordinates smaller than the world's origin does (then every number the
@@ -85,6 +89,9 @@ struct BvhStats {
     std::size_t nodes = 0;
     std::size_t bytes = 0;  // nodes, leaf items and file order (sse::bvh_bytes)
     double build_cpu_seconds = 0;
+    // What brute force would spend per packet on the bounded items, in sphere tests, with or without a BVH: what
+    // Accel::automatic compares with its crossover.
+    double brute_force_weight = 0;
 };
 
 class Tracer {
