@@ -22,7 +22,7 @@ unset multiplot
 
 # Time per ray against the primitive count, one panel per family, from bench-scaling.csv (renders: every ray)
 # and bench-scaling-peers.csv (first hits of primary rays, Embree on its widest kernels, on SSE4.2 and as coherent
-# packets; POV-Ray's trace, from its statistics, over our rays). Cells left out ("—") are not numbers and are skipped.
+# packets on both; POV-Ray's trace, from its statistics, over our rays). Cells left out ("—") are not numbers and are skipped.
 set output outdir."/scaling.png"
 set terminal pngcairo size 2200,560 font "DejaVu Sans,10"
 set multiplot layout 1,5 title "twinray bench --scaling: time per ray against primitives (one thread, CPU time; log-log)"
@@ -45,6 +45,7 @@ do for [family in "spheres fractal lattice sphere-mesh tetra"] {
          peers using 2:(in_family(family, column(5))) with linespoints lw 2 pt 8 lc rgb "#ff7f0e" title "embree rtcIntersect1 first hit", \
          peers using 2:(in_family(family, column(7))) with linespoints lw 2 pt 8 dt 2 lc rgb "#ff7f0e" title "embree SSE4.2 first hit", \
          peers using 2:(in_family(family, column(13))) with linespoints lw 2 pt 8 dt 3 lc rgb "#8c564b" title "embree coherent packets first hit", \
-         peers using 2:(in_family(family, column(22))) with linespoints lw 2 pt 3 lc rgb "#9467bd" title "povray +WT1 trace, per our ray"
+         peers using 2:(in_family(family, column(16))) with linespoints lw 2 pt 8 dt 4 lc rgb "#8c564b" title "embree SSE4.2 coherent packets first hit", \
+         peers using 2:(in_family(family, column(25))) with linespoints lw 2 pt 3 lc rgb "#9467bd" title "povray +WT1 trace, per our ray"
 }
 unset multiplot

@@ -304,7 +304,9 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
     report.scaling_peers.title =
         "Scaling against peers: first hits of primary rays (ns/ray, sse --accel " + accel_name(arguments.accel) +
         "; Embree on the widest kernels this CPU runs and on its SSE4.2 ones, on meshes also with "
-        "RTC_SCENE_FLAG_ROBUST, and its coherent rtcIntersect4/8/16 on the widest, the fastest shown) and whole "
+        "RTC_SCENE_FLAG_ROBUST, and its coherent rtcIntersect4/8/16 on the widest and on SSE4.2, the fastest shown) "
+        "and "
+        "whole "
         "renders (s, sse --accel " +
         accel_name(arguments.accel) +
         ") "
@@ -326,6 +328,9 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
                                     "embree coherent packets ns/ray",
                                     "embree packet lanes",
                                     "embree packets/sse",
+                                    "embree sse4.2 coherent packets ns/ray",
+                                    "embree sse4.2 packet lanes",
+                                    "embree sse4.2 packets/sse",
                                     "image",
                                     "povray +WT1 s (process)",
                                     "povray parse + bounding s",
