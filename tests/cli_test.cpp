@@ -64,6 +64,25 @@ TEST_F(CliTest, RenderWritesThePngAndReportsWhatItDid) {
     }
 }
 
+// --accel auto says what it chose and why: spheres.json's 15 matte spheres weigh 15 sphere tests, not above the
+// crossover of 48; transforms.json's 47.6 are above 24, its crossover where a material reflects; --accel bvh chooses
+// nothing.
+TEST_F(CliTest, RenderSaysWhatAccelAutoChoseAndWhy) {
+    const std::pair<const char*, const char*> expected[] = {
+        {"spheres.json", "accel:       auto (brute force: the bounded objects weigh 15.0 sphere tests, not above 48)"},
+        {"transforms.json",
+         "accel:       auto (bvh: the bounded objects weigh 47.6 sphere tests, above 24 (a material "
+         "reflects or transmits))"}};
+    for (const auto& [name, line] : expected) {
+        CommandResult result = run_twinray("render " + scene(name) + " --width 16 -o " + output("a.png"));
+        ASSERT_EQ(result.exit_status, 0) << result.output;
+        EXPECT_NE(result.output.find(line), std::string::npos) << line << " missing from:\n" << result.output;
+    }
+    CommandResult bvh =
+        run_twinray("render " + scene("spheres.json") + " --width 16 --accel bvh -o " + output("b.png"));
+    EXPECT_NE(bvh.output.find("accel:       bvh\n"), std::string::npos) << bvh.output;
+}
+
 // Three nested glass spheres at max_depth 64: legal, and ended by the ray budget, which the render reports
 // with the probe command of the first pixel over it; both tracers.
 TEST_F(CliTest, RenderReportsPixelsOverTheRayBudgetWithTheProbeCommandOfTheFirst) {

@@ -233,8 +233,10 @@ int run_render(const RenderArguments& arguments) {
     };
     const std::vector<MeshLine> meshes = mesh_lines(scene);
     std::optional<RenderResult> rendered;
+    std::string accel_choice;
     try {
-        rendered.emplace(render_giving_up_geometry(arguments.tracer, scene, options, arguments.precision));
+        rendered.emplace(
+            render_giving_up_geometry(arguments.tracer, scene, options, arguments.precision, &accel_choice));
         // A Ctrl-C after the last item but before the write still means "stop": nothing is written.
         if (interrupted.load(std::memory_order_relaxed)) {
             throw RenderCancelled();
@@ -267,7 +269,8 @@ int run_render(const RenderArguments& arguments) {
     if (arguments.tracer == "sse") {
         std::printf("precision:   %s\n", sse::precision_name(arguments.precision).c_str());
     }
-    std::printf("accel:       %s\n", accel_name(arguments.accel).c_str());
+    std::printf("accel:       %s%s\n", accel_name(arguments.accel).c_str(),
+                accel_choice.empty() ? "" : (" (" + accel_choice + ")").c_str());
     std::printf("resolution:  %d x %d\n", result.image.width(), result.image.height());
     std::printf("rays traced: %llu\n", static_cast<unsigned long long>(result.tally.rays));
     print_depth_control(scene, arguments.scene_path, result);

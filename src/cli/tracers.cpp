@@ -6,6 +6,7 @@
 #include "sse/tracer.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <string_view>
 
 namespace twinray::cli {
@@ -16,7 +17,8 @@ RenderResult render_with(const std::string& tracer_name, const scene::Scene& sce
 }
 
 RenderResult render_giving_up_geometry(const std::string& tracer_name, scene::Scene& scene,
-                                       const RenderOptions& options, const sse::Precision& precision) {
+                                       const RenderOptions& options, const sse::Precision& precision,
+                                       std::string* accel_choice) {
     if (tracer_name != "sse") {
         return render_with(tracer_name, scene, options, precision);
     }
@@ -24,6 +26,15 @@ RenderResult render_giving_up_geometry(const std::string& tracer_name, scene::Sc
         throw std::invalid_argument(problem);
     }
     const sse::Tracer tracer(scene, sse::Tracer::give_up_geometry, precision, options.accel);
+    if (accel_choice != nullptr && options.accel == Accel::automatic) {
+        const sse::BvhStats stats = tracer.bvh_stats();
+        char text[160];
+        std::snprintf(text, sizeof text, "%s: the bounded objects weigh %.1f sphere tests, %s %zu%s",
+                      stats.items > 0 ? "bvh" : "brute force", stats.brute_force_weight,
+                      stats.items > 0 ? "above" : "not above", stats.crossover,
+                      stats.crossover == sse::bvh_crossover ? "" : " (a material reflects or transmits)");
+        *accel_choice = text;
+    }
     return sse::render(tracer, scene, options);
 }
 

@@ -24,9 +24,12 @@ inline const char* default_tracer = "sse";
 RenderResult render_with(const std::string& tracer_name, const scene::Scene& scene, const RenderOptions& options,
                          const sse::Precision& precision = {});
 // The same for a caller that reads none of the objects, meshes and leaf paths of `scene` again: the SSE tracer empties
-// them once it has compiled them (sse::Tracer::give_up_geometry).
+// them once it has compiled them (sse::Tracer::give_up_geometry). `accel_choice`, if given, receives what the SSE
+// tracer's --accel auto chose and why ("bvh: the bounded objects weigh 47.6 sphere tests, above 24 ..."); empty for
+// other tracers and accels.
 RenderResult render_giving_up_geometry(const std::string& tracer_name, scene::Scene& scene,
-                                       const RenderOptions& options, const sse::Precision& precision);
+                                       const RenderOptions& options, const sse::Precision& precision,
+                                       std::string* accel_choice = nullptr);
 
 // The exit status of a plug-in's error (README): a kind it lacks, unusable, a broken contract.
 int plugin_exit_status(const plugin::PluginError& error);

@@ -170,8 +170,9 @@ public:
             shape_costs.push_back(shape_cost(out.shapes.back()));
         }
         out.brute_force_weight = bounded_cost(shape_costs);
-        const bool with_bvh = accel_ == Accel::bvh ||
-                              (accel_ == Accel::automatic && out.brute_force_weight > static_cast<double>(crossover()));
+        out.crossover = crossover();
+        const bool with_bvh = accel_ == Accel::bvh || (accel_ == Accel::automatic &&
+                                                       out.brute_force_weight > static_cast<double>(out.crossover));
         // The BVH's inputs, made only for a BVH (32 bytes an item).
         LargeArray<BvhInput> bounded;
         if (with_bvh) {

@@ -154,8 +154,8 @@ Tracer::~Tracer() = default;
 
 BvhStats Tracer::bvh_stats() const {
     const Bvh& bvh = scene_->bvh;
-    return {bvh.items.size(), bvh.nodes.size(), bvh_bytes(bvh), scene_->bvh_build_cpu_seconds,
-            scene_->brute_force_weight};
+    return {bvh.items.size(),           bvh.nodes.size(), bvh_bytes(bvh), scene_->bvh_build_cpu_seconds,
+            scene_->brute_force_weight, scene_->crossover};
 }
 
 std::optional<Hit> Tracer::intersect(const Ray& world_ray) const {

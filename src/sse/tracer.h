@@ -90,8 +90,9 @@ struct BvhStats {
     std::size_t bytes = 0;  // nodes, leaf items and file order (sse::bvh_bytes)
     double build_cpu_seconds = 0;
     // What brute force would spend per packet on the bounded items, in sphere tests, with or without a BVH: what
-    // Accel::automatic compares with its crossover.
+    // Accel::automatic compares with `crossover`.
     double brute_force_weight = 0;
+    std::size_t crossover = bvh_crossover;  // or bvh_crossover_with_secondary_rays
 };
 
 class Tracer {
