@@ -305,9 +305,7 @@ Report empty_report(int all_threads, const BenchArguments& arguments) {
         "Scaling against peers: first hits of primary rays (ns/ray, sse --accel " + accel_name(arguments.accel) +
         "; Embree on the widest kernels this CPU runs and on its SSE4.2 ones, on meshes also with "
         "RTC_SCENE_FLAG_ROBUST, and its coherent rtcIntersect4/8/16 on the widest and on SSE4.2, the fastest shown) "
-        "and "
-        "whole "
-        "renders (s, sse --accel " +
+        "and whole renders (s, sse --accel " +
         accel_name(arguments.accel) +
         ") "
         "against POV-Ray 3.7 +WT1 without its start-up "
@@ -548,7 +546,7 @@ void add_bench_command(CLI::App& app, std::function<int()>& run) {
                       "Leave out --scaling's memory floor of this machine (a few seconds, a minute under a sanitizer)");
     command->add_flag("!--no-crossover", arguments->crossover,
                       "Leave out --scaling's crossover of --accel auto: grids of each kind, brute force against the "
-                      "BVH (about two minutes)");
+                      "BVH (about a minute at --runs 5)");
     add_accel_option(*command, arguments->accel);
     add_plugin_option(*command, arguments->plugins);
     command->add_option("--csv", arguments->csv_path,

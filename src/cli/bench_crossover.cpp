@@ -1,4 +1,4 @@
-// `twinray bench --scaling`'s crossover of `--accel auto` (docs/performance.md, "The crossover of --accel auto"):
+// `twinray bench --scaling`'s crossover of `--accel auto` (docs/performance.md, "The BVH", measured per kind):
 // for each kind of bounded primitive, matte and glass, grids of 1 to 128 of it on a floor, rendered by the SSE
 // tracer by brute force and through its BVH in alternated runs; where the BVH starts to pay, beside what `auto`
 // weighs each grid (sse::BvhStats::brute_force_weight) and which of the two it builds.

@@ -59,6 +59,7 @@ inline sse::Precision all_fast_knobs() {
 
 using math::median;
 
+// Whether two images are the same bit for bit.
 inline bool same_bits(const Image& a, const Image& b) {
     return a.width() == b.width() && a.height() == b.height() &&
            std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(Rgb)) == 0;
