@@ -427,7 +427,6 @@ TEST_F(CliTest, BenchGivesAPluginItsRowWhereItCanTraceTheScene) {
     EXPECT_NE(text.find("| plugin libbrute_force_tracer |"), std::string::npos) << "a summary row:\n" << text;
 }
 
-// The scaling tables alone, at the smallest size: one row per family in each, every table in its CSV file.
 // A CSV table's rows, each its fields (no field of the bench's holds a comma), the header left out.
 std::vector<std::vector<std::string>> csv_rows(const std::string& path) {
     std::ifstream csv(path);

@@ -29,17 +29,13 @@ struct Kind {
     void (*write)(std::string& json, double x, double z);
 };
 
-void number(std::string& json, double value) {
-    append_shortest(json, value);
-}
-
 void point(std::string& json, double x, double y, double z) {
     json += '[';
-    number(json, x);
+    append_shortest(json, x);
     json += ',';
-    number(json, y);
+    append_shortest(json, y);
     json += ',';
-    number(json, z);
+    append_shortest(json, z);
     json += ']';
 }
 
@@ -54,7 +50,7 @@ void sphere_text(std::string& json, double x, double y, double z, double radius)
     json += R"({"type":"sphere","center":)";
     point(json, x, y, z);
     json += R"(,"radius":)";
-    number(json, radius);
+    append_shortest(json, radius);
 }
 
 // Tetrahedra go into one mesh (below): a vertex list of four a cell and their triangles, fronts outwards.

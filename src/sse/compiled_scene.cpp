@@ -169,8 +169,10 @@ public:
             out.shapes.push_back(compile_shape(*shape.data, shape_bounds.back()));
             shape_costs.push_back(shape_cost(out.shapes.back()));
         }
-        out.brute_force_weight = bounded_cost(shape_costs);
-        out.crossover = crossover();
+        if (accel_ == Accel::automatic) {  // both walk every object: not paid where the choice is given
+            out.brute_force_weight = bounded_cost(shape_costs);
+            out.crossover = crossover();
+        }
         const bool with_bvh = accel_ == Accel::bvh || (accel_ == Accel::automatic &&
                                                        out.brute_force_weight > static_cast<double>(out.crossover));
         // The BVH's inputs, made only for a BVH (32 bytes an item).

@@ -333,8 +333,8 @@ struct CompiledScene {
     // the rest (planes, unbounded CSG objects) are tested by every ray.
     Bvh bvh;
     double bvh_build_cpu_seconds = 0;  // build_bvh alone (one thread), for twinray bench
-    // What brute force would spend per packet on the bounded items, in sphere tests: Accel::automatic builds the BVH
-    // above `crossover`, bvh_crossover or bvh_crossover_with_secondary_rays (twinray bench --scaling's crossover table
+    // With Accel::automatic, what brute force would spend per packet on the bounded items, in sphere tests: it builds
+    // the BVH above `crossover`, bvh_crossover or bvh_crossover_with_secondary_rays (twinray bench --scaling's crossover table
     // sets them beside the measured ones).
     double brute_force_weight = 0;
     std::size_t crossover = bvh_crossover;

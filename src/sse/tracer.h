@@ -89,8 +89,8 @@ struct BvhStats {
     std::size_t nodes = 0;
     std::size_t bytes = 0;  // nodes, leaf items and file order (sse::bvh_bytes)
     double build_cpu_seconds = 0;
-    // What brute force would spend per packet on the bounded items, in sphere tests, with or without a BVH: what
-    // Accel::automatic compares with `crossover`.
+    // With Accel::automatic (else 0), what brute force would spend per packet on the bounded items, in sphere tests,
+    // with or without a BVH: what it compares with `crossover`.
     double brute_force_weight = 0;
     std::size_t crossover = bvh_crossover;  // or bvh_crossover_with_secondary_rays
 };
