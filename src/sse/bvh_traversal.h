@@ -17,15 +17,16 @@
 namespace twinray::sse {
 
 // A packet's rays as its box tests need them: 1/d as an IEEE division (whatever the precision knobs), and the
-// origin moved by δ = bvh_padding·|o|∞ (per lane) towards each face, which pads every box by δ for this ray
-// at no cost per node: the low faces' t is (low − δ − o)/d, the high faces' (high + δ − o)/d.
+// origin moved by δ = padding·|o|∞ (per lane; bvh_padding, or a shape's shape_ray_padding) towards each face, which
+// pads every box by δ for this ray at no cost per node: the low faces' t is (low − δ − o)/d, the high faces'
+// (high + δ − o)/d.
 struct BvhRays {
     Vec3x4 low_face_origin;   // o + δ
     Vec3x4 high_face_origin;  // o − δ
     Vec3x4 inverse_direction;
 
-    TWINRAY_KERNEL explicit BvhRays(const RayPacket& rays) {
-        vfloat4 delta = vfloat4(static_cast<float>(bvh_padding)) * max_abs_component(rays.origin) + vfloat4(1e-30f);
+    TWINRAY_KERNEL explicit BvhRays(const RayPacket& rays, float padding = static_cast<float>(bvh_padding)) {
+        vfloat4 delta = vfloat4(padding) * max_abs_component(rays.origin) + vfloat4(1e-30f);
         for (int axis = 0; axis < 3; ++axis) {
             low_face_origin[axis] = rays.origin[axis] + delta;
             high_face_origin[axis] = rays.origin[axis] - delta;
@@ -414,7 +415,8 @@ void for_each_crossing_inside(const CompiledScene& scene, const InstanceRecord& 
     int framed = -1;
     // The leaf by reference: by value, the lone lane's walk packed its two places into one register through the
     // stack, a stalled store forwarding at every leaf (3 % of a first hit at 100 000 instances).
-    for_each_leaf_met(shape.bvh, shape.triangles.items, BvhRays(object), lanes, t_max, [&](const BvhLeaf& leaf) {
+    const BvhRays box_rays(object, shape_ray_padding<P>());
+    for_each_leaf_met(shape.bvh, shape.triangles.items, box_rays, lanes, t_max, [&](const BvhLeaf& leaf) {
         const int alone = lane_alone_at(leaf, lanes);
         if constexpr (!P::moller_trumbore) {
             if (alone >= 0) {
