@@ -87,14 +87,14 @@ constexpr double bvh_padding = 1.0 / 8192.0;
 
 // A shape's BVH holds triangles alone and is walked in the shape's own space, where a ray from far away has a large
 // |o'| against small boxes: a tree of the forest of 100 000 (2.8 units tall) lies 390 to 2 100 of its units from the
-// camera, and 2⁻¹³ of that padded each of its leaves' boxes by 0.05 to 0.25 (docs/performance.md). The watertight test needs far less: its t
-// is a combination, with weights U, V, W of one sign, of the three vertices carried into the ray's frame, each off by
-// a few ulps of |v − o| there (v − o, the shear), so the point it names lies within those ulps of its triangle's box,
-// whose own padding covers |v|. 2⁻¹⁸ of |o|∞ (64 ulps) holds every crossing of
+// camera, and 2⁻¹³ of that padded each of its leaves' boxes by 0.05 to 0.25 (docs/performance.md). The watertight test
+// needs far less: its t is a combination, with weights U, V, W of one sign, of the three vertices carried into the
+// ray's frame, each off by a few ulps of |v − o| there (v − o, the shear), so the point it names lies within those ulps
+// of its triangle's box, whose own padding covers |v|. 2⁻¹⁸ of |o|∞ (64 ulps) holds every crossing of
 // ShapeRayPaddingHoldsEveryWatertightCrossingFarFromItsTriangle (tests/bvh_test.cpp) with the margin it prints: the
-// farthest lies 1.6 ulps out. Not a triangle thin in the ray's frame (a sliver, a grazing ray), whose det is near 0
-// and whose point can lie past any fixed padding, bvh_padding's too (docs/sse-tracer.md, "The BVH"). The
-// Möller–Trumbore knob keeps bvh_padding.
+// farthest lies 1.6 ulps out. Not a triangle thin in the ray's frame (a sliver, a grazing ray), whose det is near 0 and
+// whose point can lie past any fixed padding, bvh_padding's too (docs/sse-tracer.md, "The BVH"). The Möller–Trumbore
+// knob keeps bvh_padding.
 constexpr double watertight_shape_ray_padding = 1.0 / 262144.0;
 
 template <typename P>
