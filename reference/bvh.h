@@ -133,10 +133,12 @@ public:
         }
     }
 
-private:
     // Boxes are padded by this share of their largest coordinate and rays' origins by this share of theirs:
-    // 2048 ulps of T, far beyond the rounding of a kernel's hit point (a few ulps of the distances).
+    // 2048 ulps of T, far beyond the rounding of a kernel's hit point (a few ulps of the distances). A triangle's
+    // t is held within half of it of its box (triangle.h, held_to_box), where its formula's rounding does not keep it.
     static constexpr double padding = 2048.0 * static_cast<double>(std::numeric_limits<T>::epsilon());
+
+private:
     static constexpr std::uint32_t max_leaf_objects = 4;
     // Halving splits: a leaf is at most ⌈log₂ objects⌉ deep, under 33 for any count.
     static constexpr int max_depth = 33;

@@ -16,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <type_traits>
 #include <vector>
@@ -107,10 +108,38 @@ MeshShape<T> make_shape(const scene::Mesh& mesh, Accel accel) {
     return make_shape<T>(*mesh.data, mesh.leaf, accel);
 }
 
+// The crossing lies on the triangle, so in its box; the plane's t need not: n = (b − a) × (c − a) is rounded by
+// about u·|b − a|·|c − a|, which on a sliver reaching far (a vertex at -1.5e10, two within a few units of the
+// origin) tilts the plane enough to put t units off the box, even ahead of an origin the crossing lies behind. The
+// BVH skips a triangle where the ray's stretch in its box, padded by ObjectBvh::padding of the box's largest
+// coordinate and of the origin's, lies beyond the limit or behind the origin; so t is held to the ray's stretch in
+// the box widened by half as much, which brute force and the BVH then agree on. A t within that reach (every t of a
+// well-conditioned triangle: a few ulps of the distances) is unchanged. An axis the ray is parallel to bounds
+// nothing: the exact test found its line crossing the triangle, so within that slab.
+template <typename T>
+T held_to_box(T t, const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c, const Ray<T>& ray) {
+    const T reach = T(ObjectBvh<T>::padding / 2) *
+                    (std::fmax(max_abs_component(a), std::fmax(max_abs_component(b), max_abs_component(c))) +
+                     max_abs_component(ray.origin));
+    T enter = -std::numeric_limits<T>::infinity();
+    T leave = std::numeric_limits<T>::infinity();
+    for (int axis = 0; axis < 3; ++axis) {
+        if (ray.direction[axis] == T(0)) {
+            continue;
+        }
+        T low = (std::fmin(a[axis], std::fmin(b[axis], c[axis])) - reach - ray.origin[axis]) / ray.direction[axis];
+        T high = (std::fmax(a[axis], std::fmax(b[axis], c[axis])) + reach - ray.origin[axis]) / ray.direction[axis];
+        enter = std::fmax(enter, std::fmin(low, high));
+        leave = std::fmin(leave, std::fmax(low, high));
+    }
+    return std::fmin(std::fmax(t, enter), leave);
+}
+
 // Hit when the three perturbed edge signs agree (both sides: no back-face culling). Their sum is
 // d·((b − a) × (c − a)) exactly, so agreeing signs also decide the side exactly: all negative, the ray meets
 // the front. t = ((a − o)·n) / (d·n) with n = (b − a) × (c − a), in T; a denominator that rounds to 0 (a ray
-// within rounding of the triangle's plane) gives no finite t and is a miss, and so does a t whose products overflow.
+// within rounding of the triangle's plane) gives no finite t and is a miss, and so does a t whose products overflow;
+// t is then held to the triangle's box (held_to_box), and a t not past 0 is a miss.
 template <typename T>
 std::optional<TriangleCrossing<T>> crossing_of(const MeshShape<T>& mesh, std::uint32_t triangle, const Ray<T>& ray) {
     const std::array<std::uint32_t, 3>& corners = mesh.triangles[triangle];
@@ -126,7 +155,11 @@ std::optional<TriangleCrossing<T>> crossing_of(const MeshShape<T>& mesh, std::ui
     }
     Vec3<T> n = cross(b - a, c - a);
     T t = dot(a - ray.origin, n) / dot(ray.direction, n);
-    if (!(t > T(0)) || !std::isfinite(t)) {
+    if (!std::isfinite(t)) {
+        return std::nullopt;
+    }
+    t = held_to_box(t, a, b, c, ray);
+    if (!(t > T(0))) {
         return std::nullopt;
     }
     return TriangleCrossing<T>{t, triangle, side < 0};

@@ -1036,3 +1036,79 @@ TEST(ReferenceBvh, EveryRayFindsTheSameNearestHitAsWithoutIt) {
         }
     }
 }
+
+// A sliver reaching far: one vertex at -1.5e10, two within a few units of the origin, beside `other`. Its plane's
+// normal n = (b − a) × (c − a) is rounded by about u·|b − a|·|c − a|, which tilts the plane enough to put the
+// formula's t units off the triangle's box, beyond any padding of the BVH's.
+Scene sliver_beside(const std::string& other) {
+    return twinray::scene::parse_scene(
+        R"({"format": "twinray-scene/1", "image": {"width": 4, "height": 5},
+      "camera": {"eye": [0, 0, 4], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 50}, "max_depth": 2,
+      "materials": {
+        "matte": {"color": [0.8, 0.3, 0.2], "diffuse": 0.8, "phong": 0.3, "phong_size": 20},
+        "mirror": {"color": [0.9, 0.9, 0.9], "diffuse": 0.2, "reflection": 0.6},
+        "glass": {"color": [1, 1, 1], "diffuse": 0.05, "reflection": 0.1, "transmission": 0.8, "ior": 1.5}},
+      "lights": [{"position": [2, 4, 4], "color": [0.7, 0.7, 0.7]}, {"position": [-3, 2, 4], "color": [0.7, 0.7, 0.7]}],
+      "objects": [{"type": "mesh", "vertices": [[-15156250000, -15156250000, -15156250000], [0, 3, 1], [3, 1, -3]],
+                   "triangles": [[0, 1, 2]], "material": "mirror"}, )" +
+            other + "]}",
+        "bvh_test");
+}
+
+template <typename T>
+void expect_same_answers(const Scene& scene, twinray::Vec3d origin, twinray::Vec3d direction) {
+    twinray::reference::Tracer<T> brute(scene, Accel::none);
+    twinray::reference::Tracer<T> bvh(scene, Accel::bvh);
+    const twinray::reference::Ray<T> ray{twinray::reference::Vec3<T>(origin), twinray::reference::Vec3<T>(direction)};
+    auto a = brute.intersect(ray);
+    auto b = bvh.intersect(ray);
+    ASSERT_EQ(a.has_value(), b.has_value());
+    if (a) {
+        EXPECT_EQ(a->leaf, b->leaf);
+        EXPECT_EQ(std::memcmp(&a->t, &b->t, sizeof(T)), 0) << a->t << " without the BVH, " << b->t << " with it";
+    }
+    const twinray::reference::Color<T> ca = brute.trace(ray, 1);
+    const twinray::reference::Color<T> cb = bvh.trace(ray, 1);
+    EXPECT_EQ(std::memcmp(&ca, &cb, sizeof(ca)), 0);
+}
+
+// A mirror's reflection off a glass sphere (the BVH differential fuzz target: the primary ray's colour differed)
+// crosses the sliver's line 7 units behind its origin, where the triangle's box lies; the formula put the crossing
+// 8.6 ahead, and brute force met it where the BVH, rightly, did not. t held to the triangle's box
+// (reference/triangle.h, held_to_box), neither meets it.
+TEST(ReferenceBvh, ASliverReachingFarIsNotMetAheadOfARayItLiesBehind) {
+    const Scene scene =
+        sliver_beside(R"({"type": "sphere", "center": [0, 2, 0], "radius": 3.25, "material": "glass"})");
+    const twinray::Vec3d reflected_origin{0.44143008615209411, 3.4408703968596628, 2.8795020365495949};
+    const twinray::Vec3d reflected{-0.14654437998779751, 0.44356732213467065, 0.88417915346849796};
+    for (Accel accel : {Accel::none, Accel::bvh}) {
+        twinray::reference::Tracer<double> tracer(scene, accel);
+        auto hit = tracer.intersect({reflected_origin, reflected});
+        EXPECT_FALSE(hit.has_value()) << (accel == Accel::bvh ? "with the BVH" : "without") << ": leaf " << hit->leaf
+                                      << " at t " << hit->t;
+    }
+    expect_same_answers<double>(scene, reflected_origin, reflected);
+    expect_same_answers<float>(scene, reflected_origin, reflected);
+    const twinray::Vec3d primary{-0.40736360013478667, -0.40777178009484161, -0.81717628002990272};
+    expect_same_answers<double>(scene, {1, 4, 4}, primary);
+    expect_same_answers<float>(scene, {1, 4, 4}, primary);
+}
+
+// A ray crossing the sliver 8.1 along it, in its box's stretch [7.3, 29.9]: the formula put the crossing at 0.019,
+// nearer than a sphere at 2.5, so brute force named the triangle while the BVH, having met the sphere first, culled
+// the triangle's box beyond it. t held to the box, both name the sphere at the same t.
+TEST(ReferenceBvh, ASliverReachingFarIsNotMetBeforeItsBoxAheadOfANearerObject) {
+    const Scene scene =
+        sliver_beside(R"({"type": "sphere", "center": [7.238, -0.252, -4.427], "radius": 0.5, "material": "matte"})");
+    const twinray::Vec3d origin{10.174139069364816, -0.61430456394967, -4.922199362347837};
+    const twinray::Vec3d direction{-0.978875809181809, 0.12076093831561922, 0.16498165345210308};
+    for (Accel accel : {Accel::none, Accel::bvh}) {
+        twinray::reference::Tracer<double> tracer(scene, accel);
+        auto hit = tracer.intersect({origin, direction});
+        const char* walk = accel == Accel::bvh ? "with the BVH" : "without";
+        ASSERT_TRUE(hit.has_value()) << walk;
+        EXPECT_EQ(hit->leaf, 1) << walk << ": t " << hit->t;
+    }
+    expect_same_answers<double>(scene, origin, direction);
+    expect_same_answers<float>(scene, origin, direction);
+}
