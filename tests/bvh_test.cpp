@@ -987,6 +987,36 @@ TEST_F(Bvh, BuildTimeAndBytesPerPrimitiveAtEachScale) {
 
 // The reference's own BVH (reference/bvh.h): the same images bit for bit, in double and in float, and
 // the same hit, t, leaf and colour for random rays, as the reference testing every object.
+// The reference's per-ray answers with and without its BVH, as expect_same_answers above gives the SSE tracer's: the
+// same hit, leaf and t bit for bit, and the same colour of the whole ray tree.
+template <typename T>
+void expect_same_reference_answers(const twinray::reference::Tracer<T>& brute, const twinray::reference::Tracer<T>& bvh,
+                                   const twinray::reference::Ray<T>& ray, const std::string& label) {
+    auto a = brute.intersect(ray);
+    auto b = bvh.intersect(ray);
+    ASSERT_EQ(a.has_value(), b.has_value()) << label;
+    if (a) {
+        EXPECT_EQ(a->leaf, b->leaf) << label;
+        EXPECT_EQ(std::memcmp(&a->t, &b->t, sizeof(T)), 0) << label << ": t " << a->t << " and " << b->t;
+    }
+    const twinray::reference::Color<T> ca = brute.trace(ray, 1);
+    const twinray::reference::Color<T> cb = bvh.trace(ray, 1);
+    EXPECT_EQ(std::memcmp(&ca, &cb, sizeof(ca)), 0) << label;
+}
+
+// The same, for one ray given in double, in double and float.
+void expect_same_reference_answers(const Scene& scene, twinray::Vec3d origin, twinray::Vec3d direction) {
+    auto in = [&]<typename T>(T) {
+        const twinray::reference::Tracer<T> brute(scene, Accel::none);
+        const twinray::reference::Tracer<T> bvh(scene, Accel::bvh);
+        expect_same_reference_answers<T>(brute, bvh,
+                                         {twinray::reference::Vec3<T>(origin), twinray::reference::Vec3<T>(direction)},
+                                         sizeof(T) == sizeof(double) ? "double" : "float");
+    };
+    in(0.0);
+    in(0.0f);
+}
+
 TEST(ReferenceBvh, ImagesAreBitIdenticalWithAndWithoutIt) {
     std::vector<std::pair<std::string, Scene>> scenes = hard_scenes();
     scenes.emplace_back("csg", generated_scene("csg", 1000));
@@ -1023,16 +1053,7 @@ TEST(ReferenceBvh, EveryRayFindsTheSameNearestHitAsWithoutIt) {
             twinray::Vec3d direction(random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-1, 1));
             twinray::reference::Ray<double> ray{
                 origin, (1.0 / std::sqrt(twinray::math::dot(direction, direction))) * direction};
-            auto a = brute.intersect(ray);
-            auto b = bvh.intersect(ray);
-            ASSERT_EQ(a.has_value(), b.has_value()) << name << " ray " << i;
-            if (a) {
-                EXPECT_EQ(a->leaf, b->leaf) << name << " ray " << i;
-                EXPECT_EQ(std::memcmp(&a->t, &b->t, sizeof(double)), 0) << name << " ray " << i;
-            }
-            twinray::Vec3d ca = brute.trace(ray, 1);
-            twinray::Vec3d cb = bvh.trace(ray, 1);
-            EXPECT_EQ(std::memcmp(&ca, &cb, sizeof(ca)), 0) << name << " ray " << i;
+            expect_same_reference_answers(brute, bvh, ray, name + " ray " + std::to_string(i));
         }
     }
 }
@@ -1055,23 +1076,6 @@ Scene sliver_beside(const std::string& other) {
         "bvh_test");
 }
 
-template <typename T>
-void expect_same_answers(const Scene& scene, twinray::Vec3d origin, twinray::Vec3d direction) {
-    twinray::reference::Tracer<T> brute(scene, Accel::none);
-    twinray::reference::Tracer<T> bvh(scene, Accel::bvh);
-    const twinray::reference::Ray<T> ray{twinray::reference::Vec3<T>(origin), twinray::reference::Vec3<T>(direction)};
-    auto a = brute.intersect(ray);
-    auto b = bvh.intersect(ray);
-    ASSERT_EQ(a.has_value(), b.has_value());
-    if (a) {
-        EXPECT_EQ(a->leaf, b->leaf);
-        EXPECT_EQ(std::memcmp(&a->t, &b->t, sizeof(T)), 0) << a->t << " without the BVH, " << b->t << " with it";
-    }
-    const twinray::reference::Color<T> ca = brute.trace(ray, 1);
-    const twinray::reference::Color<T> cb = bvh.trace(ray, 1);
-    EXPECT_EQ(std::memcmp(&ca, &cb, sizeof(ca)), 0);
-}
-
 // A mirror's reflection off a glass sphere (the BVH differential fuzz target: the primary ray's colour differed)
 // crosses the sliver's line 7 units behind its origin, where the triangle's box lies; the formula put the crossing
 // 8.6 ahead, and brute force met it where the BVH, rightly, did not. t held to the triangle's box
@@ -1087,11 +1091,9 @@ TEST(ReferenceBvh, ASliverReachingFarIsNotMetAheadOfARayItLiesBehind) {
         EXPECT_FALSE(hit.has_value()) << (accel == Accel::bvh ? "with the BVH" : "without") << ": leaf " << hit->leaf
                                       << " at t " << hit->t;
     }
-    expect_same_answers<double>(scene, reflected_origin, reflected);
-    expect_same_answers<float>(scene, reflected_origin, reflected);
+    expect_same_reference_answers(scene, reflected_origin, reflected);
     const twinray::Vec3d primary{-0.40736360013478667, -0.40777178009484161, -0.81717628002990272};
-    expect_same_answers<double>(scene, {1, 4, 4}, primary);
-    expect_same_answers<float>(scene, {1, 4, 4}, primary);
+    expect_same_reference_answers(scene, {1, 4, 4}, primary);
 }
 
 // A ray crossing the sliver 8.1 along it, in its box's stretch [7.3, 29.9]: the formula put the crossing at 0.019,
@@ -1109,6 +1111,5 @@ TEST(ReferenceBvh, ASliverReachingFarIsNotMetBeforeItsBoxAheadOfANearerObject) {
         ASSERT_TRUE(hit.has_value()) << walk;
         EXPECT_EQ(hit->leaf, 1) << walk << ": t " << hit->t;
     }
-    expect_same_answers<double>(scene, origin, direction);
-    expect_same_answers<float>(scene, origin, direction);
+    expect_same_reference_answers(scene, origin, direction);
 }

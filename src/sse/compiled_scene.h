@@ -334,8 +334,8 @@ struct CompiledScene {
     Bvh bvh;
     double bvh_build_cpu_seconds = 0;  // build_bvh alone (one thread), for twinray bench
     // With Accel::automatic, what brute force would spend per packet on the bounded items, in sphere tests: it builds
-    // the BVH above `crossover`, bvh_crossover or bvh_crossover_with_secondary_rays (twinray bench --scaling's crossover table
-    // sets them beside the measured ones).
+    // the BVH above `crossover`, bvh_crossover or bvh_crossover_with_secondary_rays (twinray bench --scaling's crossover
+    // table sets them beside the measured ones).
     double brute_force_weight = 0;
     std::size_t crossover = bvh_crossover;
     PrimitiveLists unbounded;
