@@ -3,12 +3,14 @@
 #include "accuracy/attribution.h"
 #include "reference/tracer.h"
 #include "scene/loader.h"
+#include "scene/placement.h"
 #include "sse/cpu.h"
 #include "sse/tracer.h"
 #include "tests/scene_files.h"
 
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include <gtest/gtest.h>
 
@@ -86,6 +88,52 @@ TEST(Attribution, ATracerWithAWrongModelLeavesPixelsUnexplained) {
         std::printf("[ measured ] %s: %ld of %ld diverging pixels unexplained\n", name, unexplained, judged);
         EXPECT_GT(unexplained, judged / 2) << name;
     }
+}
+
+// Every pixel of `rendered` (the SSE tracer's render of it) that differs from the reference's render of `truth`,
+// attributed against `truth`.
+accuracy::Attribution attribute_renders(const scene::Scene& truth, const scene::Scene& rendered) {
+    RenderOptions options;
+    options.threads = 2;
+    Image expected = reference::render<double>(truth, options).image;
+    const std::unique_ptr<tracing::AnyTracer> sse = tracing::make_tracer("sse", rendered);
+    Image actual = sse->render(options).image;
+    return accuracy::attribute_pixels(truth, expected, actual, *sse, judged_above);
+}
+
+long count_of(const accuracy::Attribution& attribution, accuracy::Cause cause) {
+    return attribution.counts[static_cast<std::size_t>(cause)];
+}
+
+// A plate scaled by 1e4 after a turn of 45° (κ ≈ 1.4e4), its far end seen from 8 700 away: float's trip into the
+// plate's space moves a ray there by units in the world (docs/numerics.md, "Transforms"), and the SSE tracer meets the
+// plate up to 2 units past its end. Every pixel that differs is a silhouette that trip explains. The same plate written
+// in the world has no trip: moved by 3 units for the SSE tracer, its end leaves pixels unexplained.
+TEST(Attribution, ABadlyConditionedInstancesEndIsExplainedByTheTripIntoItsSpace) {
+    if (!sse::cpu_supports_sse41()) {
+        GTEST_SKIP() << sse::missing_sse41_message();
+    }
+    const scene::Scene placed = scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "attribution" /
+                                                  "badly_conditioned_instance.json");
+    const accuracy::Attribution attribution = attribute_renders(placed, placed);
+    std::printf("[ measured ] instance of condition number %.3g: %ld silhouette, %ld unexplained pixels\n",
+                scene::condition_number(placed.meshes.front().placement->transform()),
+                count_of(attribution, accuracy::Cause::silhouette),
+                count_of(attribution, accuracy::Cause::unexplained));
+    EXPECT_GT(count_of(attribution, accuracy::Cause::silhouette), 100);
+    EXPECT_EQ(count_of(attribution, accuracy::Cause::unexplained), 0);
+
+    const scene::Scene in_world = scene::flattened(placed);
+    scene::Scene moved = in_world;
+    auto vertices = std::make_shared<scene::MeshData>(*moved.meshes.front().data);
+    for (scene::Vec3& vertex : vertices->vertices) {
+        vertex.x += 3;
+    }
+    moved.meshes.front().data = vertices;
+    const accuracy::Attribution without_trip = attribute_renders(in_world, moved);
+    std::printf("[ measured ] the plate in the world, moved 3 units: %ld unexplained pixels\n",
+                count_of(without_trip, accuracy::Cause::unexplained));
+    EXPECT_GT(count_of(without_trip, accuracy::Cause::unexplained), 100);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "accuracy/attribution.h"
 
 #include "compare/image_compare.h"
+#include "scene/placement.h"
 #include "sse/tracer.h"
 
 #include <algorithm>
@@ -80,14 +81,24 @@ void for_each_primitive(const scene::Object& object, Visit&& visit) {
     visit(object);
 }
 
-// What turns a leaf's normal as its hit point moves: its primitive, whose radius of curvature at a point each
-// primitive type gives (scene::curvature_radius); a mesh's shading radius; or on an instance of a solid shape, the
-// part's primitive in the shape's space.
-struct Curvature {
+// What carrying a ray into a placed object's space (a transformed primitive, an instance) costs it, seen from the
+// world (docs/numerics.md, "Transforms"). o − t, L⁻¹·(o − t) and L⁻¹·d in float, L⁻¹ itself rounded, put each
+// component of o' off by γ(6) of (|L⁻¹|·|o − t|), so |o' error| ≤ γ(6)·‖L⁻¹‖_F·√3·|o − t|∞, and d' likewise; L brings
+// that back multiplied by ‖L‖_F: κ·γ(6)·√3 (10.4 u) in direction and times |o − t|∞ in origin, held by 12 u.
+constexpr double trip_rounding = 12 * unit_roundoff;
+
+// What the bands need of a leaf. What turns its normal as its hit point moves: its primitive, whose radius of curvature
+// at a point each primitive type gives (scene::curvature_radius); a mesh's shading radius; or on an instance of a solid
+// shape, the part's primitive in the shape's space. And where the leaf lies in a space of its own, what the trip there
+// costs a ray: κ of its transform (0 where it has none; on an instance of a solid shape, times the largest of its
+// parts' own) and the transform's translation.
+struct LeafFacts {
     const scene::Object* primitive = nullptr;
     double mesh_radius = infinity;
     const scene::SolidInstance* instance = nullptr;
     const scene::SolidShape* shape = nullptr;  // the instance's
+    double condition = 0;
+    Vec3d translation{};  // of its transform
 
     double radius_at(const Vec3d& point, int part) const {
         if (instance == nullptr || part < 0) {
@@ -102,7 +113,27 @@ struct Curvature {
         });
         return radius;
     }
+
+    void place(const scene::Transform& to_world, double inner_condition = 1) {
+        condition = scene::condition_number(to_world) * inner_condition;
+        translation = to_world.translation;
+    }
 };
+
+// The largest κ of a primitive's own transform (1 for none), over the primitives of an object.
+double largest_own_condition(const scene::Object& object) {
+    double largest = 1;
+    for_each_primitive(object, [&](const scene::Object& primitive) {
+        std::visit(
+            [&](const auto& shape) {
+                if constexpr (requires { shape.to_world(); }) {
+                    largest = std::max(largest, scene::condition_number(shape.to_world()));
+                }
+            },
+            primitive.shape);
+    });
+    return largest;
+}
 
 // A smooth mesh shades with normals interpolated along its edges: they turn by the angle between two
 // vertex normals over the edge's length, so its radius is the least edge length over that angle. A flat
@@ -125,17 +156,26 @@ double shading_radius(const scene::MeshData& mesh) {
     return radius;
 }
 
-std::vector<Curvature> curvatures(const scene::Scene& scene) {
-    std::vector<Curvature> by_leaf(scene.leaf_paths.size());
+std::vector<LeafFacts> leaf_facts(const scene::Scene& scene) {
+    std::vector<LeafFacts> by_leaf(scene.leaf_paths.size());
     for (const scene::Object& object : scene.objects) {
         for_each_primitive(object, [&](const scene::Object& primitive) {
-            by_leaf[static_cast<std::size_t>(primitive.leaf)].primitive = &primitive;
+            LeafFacts& facts = by_leaf[static_cast<std::size_t>(primitive.leaf)];
+            facts.primitive = &primitive;
+            std::visit(
+                [&](const auto& shape) {
+                    if constexpr (requires { shape.to_world(); }) {
+                        facts.place(shape.to_world());
+                    }
+                },
+                primitive.shape);
         });
     }
     for (const scene::SolidInstance& instance : scene.solid_instances) {
-        Curvature& curvature = by_leaf[static_cast<std::size_t>(instance.leaf)];
-        curvature.instance = &instance;
-        curvature.shape = &scene.solid_shapes[static_cast<std::size_t>(instance.placement.shape)];
+        LeafFacts& facts = by_leaf[static_cast<std::size_t>(instance.leaf)];
+        facts.instance = &instance;
+        facts.shape = &scene.solid_shapes[static_cast<std::size_t>(instance.placement.shape)];
+        facts.place(instance.placement.transform(), largest_own_condition(facts.shape->tree));
     }
     std::vector<double> shape_radius;
     for (const scene::MeshShape& shape : scene.mesh_shapes) {
@@ -149,20 +189,45 @@ std::vector<Curvature> curvatures(const scene::Scene& scene) {
         }
         radius =
             placed_radius(shape_radius[static_cast<std::size_t>(mesh.placement->shape)], mesh.placement->transform());
+        by_leaf[static_cast<std::size_t>(mesh.leaf)].place(mesh.placement->transform());
     }
     return by_leaf;
+}
+
+// The band of a ray as the leaf it meets sees it: wider by the trip into the leaf's space, where it has one.
+Band seen_by(const Band& band, const LeafFacts& leaf, const RayNode& ray) {
+    if (leaf.condition == 0) {
+        return band;
+    }
+    const double slack = leaf.condition * trip_rounding;
+    return {band.angle + slack, band.offset + slack * max_abs_difference(ray.origin, leaf.translation), band.point,
+            band.normal};
+}
+
+// The band of a ray whose two versions `p` and `q` meet other leaves, or one of them none, as both leaves see it.
+Band seen_by_either(const Band& band, const std::vector<LeafFacts>& facts, const RayNode& p, const RayNode& q) {
+    Band seen = band;
+    for (const RayNode* node : {&p, &q}) {
+        if (node->hit) {
+            const Band by_node = seen_by(band, facts[static_cast<std::size_t>(node->leaf)], *node);
+            seen.angle = std::max(seen.angle, by_node.angle);
+            seen.offset = std::max(seen.offset, by_node.offset);
+        }
+    }
+    return seen;
 }
 
 // Where a ray with `band` meets a surface: its hit point slides across the ray and along the surface (a
 // grazing ray far along it: 1/|cos θ|, as in the conformance bound), and the normal turns by that over the
 // radius of curvature.
-void add_hit(Band& band, const RayNode& node, double radius) {
+void add_hit(Band& band, const RayNode& node, const LeafFacts& leaf) {
+    const Band seen = seen_by(band, leaf, node);
     double cosine = std::fabs(dot3(node.normal, node.direction));
-    band.point = (band.offset + node.t * band.angle) / cosine + rounding * max_abs(node.point);
-    band.normal = band.point / radius + rounding;
+    band.point = (seen.offset + node.t * seen.angle) / cosine + rounding * max_abs(node.point);
+    band.normal = band.point / leaf.radius_at(node.point, node.part) + rounding;
 }
 
-Band band_along(const scene::Scene& scene, const std::vector<Curvature>& curvature, const RayTree& tree, int index) {
+Band band_along(const scene::Scene& scene, const std::vector<LeafFacts>& facts, const RayTree& tree, int index) {
     std::vector<int> path;
     for (int i = index; i >= 0; i = node_of(tree, i).parent) {
         path.push_back(i);
@@ -174,7 +239,7 @@ Band band_along(const scene::Scene& scene, const std::vector<Curvature>& curvatu
         if (!a.hit) {
             break;
         }
-        add_hit(band, a, curvature[static_cast<std::size_t>(a.leaf)].radius_at(a.point, a.part));
+        add_hit(band, a, facts[static_cast<std::size_t>(a.leaf)]);
         if (k + 1 == path.size()) {
             break;
         }
@@ -374,7 +439,7 @@ bool is_flip(const Divergence& d) {
     return d.threshold == 0;
 }
 
-PixelCause judge_flip(const scene::Scene& scene, const std::vector<Curvature>& curvature,
+PixelCause judge_flip(const scene::Scene& scene, const std::vector<LeafFacts>& facts,
                       const reference::Tracer<double>& reference, const RayTree& expected, const RayTree& actual,
                       const Divergence& flip) {
     PixelCause cause{Cause::unexplained, flip.what, 0, 0, 0};
@@ -395,7 +460,7 @@ PixelCause judge_flip(const scene::Scene& scene, const std::vector<Curvature>& c
     }
     const RayNode& p = node_of(expected, i);
     const RayNode& q = node_of(actual, j);
-    Band band = band_along(scene, curvature, expected, i);
+    Band band = band_along(scene, facts, expected, i);
     cause.depth = p.depth;
     cause.deviation = angle_between(p.direction, q.direction);
     cause.band = band.angle;
@@ -407,7 +472,8 @@ PixelCause judge_flip(const scene::Scene& scene, const std::vector<Curvature>& c
     bool explained = false;
     if (what == "hit" || what == "object" || what == "entering") {
         cause.cause = Cause::silhouette;
-        explained = replay_agrees(reference, q, band, [&](const auto& hit) { return same_hit(hit, q); });
+        explained = replay_agrees(reference, q, seen_by_either(band, facts, p, q),
+                                  [&](const auto& hit) { return same_hit(hit, q); });
     } else if (what == "ray") {
         cause.cause = Cause::refraction;
         explained = p.hit && scene.material_of_leaf(p.leaf, p.part).transmission > 0 &&
@@ -424,7 +490,7 @@ PixelCause judge_flip(const scene::Scene& scene, const std::vector<Curvature>& c
     return cause;
 }
 
-PixelCause attribute_with(const scene::Scene& scene, const std::vector<Curvature>& curvature,
+PixelCause attribute_with(const scene::Scene& scene, const std::vector<LeafFacts>& facts,
                           const reference::Tracer<double>& reference, const RayTree& expected, const RayTree& actual) {
     std::vector<Divergence> divergences = find_divergences(expected, actual);
     auto flip = std::find_if(divergences.begin(), divergences.end(), is_flip);
@@ -447,7 +513,7 @@ PixelCause attribute_with(const scene::Scene& scene, const std::vector<Curvature
         if (p.hit != q.hit || (p.hit && (p.leaf != q.leaf || p.part != q.part))) {
             continue;  // judged as the flip
         }
-        Band band = band_along(scene, curvature, expected, i);
+        Band band = band_along(scene, facts, expected, i);
         if (!within_band(scene, p, q, band, i < flip_node)) {
             // The other face at an edge turns the normal: the reference, given a ray within the band, meets the
             // face the SSE tracer met.
@@ -455,7 +521,7 @@ PixelCause attribute_with(const scene::Scene& scene, const std::vector<Curvature
                                max_abs_difference(p.origin, q.origin) <= band.offset + rounding * max_abs(p.origin);
             bool edge =
                 p.hit && ray_in_band && angle_between(p.normal, q.normal) > band.normal &&
-                replay_agrees(reference, q, band, [&](const auto& hit) {
+                replay_agrees(reference, q, seen_by_either(band, facts, p, q), [&](const auto& hit) {
                     return hit && same_hit(hit, q) &&
                            angle_between(Vec3d{hit->normal.x, hit->normal.y, hit->normal.z}, q.normal) <= band.normal;
                 });
@@ -466,7 +532,7 @@ PixelCause attribute_with(const scene::Scene& scene, const std::vector<Curvature
     if (flip == divergences.end()) {
         return {Cause::drift, divergences.empty() ? "" : divergences.front().what, 0, 0, 0};
     }
-    return judge_flip(scene, curvature, reference, expected, actual, *flip);
+    return judge_flip(scene, facts, reference, expected, actual, *flip);
 }
 
 }  // namespace
@@ -484,14 +550,14 @@ const char* cause_name(Cause cause) {
 
 PixelCause attribute(const scene::Scene& scene, const reference::Tracer<double>& reference, const RayTree& expected,
                      const RayTree& actual) {
-    return attribute_with(scene, curvatures(scene), reference, expected, actual);
+    return attribute_with(scene, leaf_facts(scene), reference, expected, actual);
 }
 
 Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_image, const Image& actual_image,
                              const tracing::AnyTracer& actual, double threshold) {
     const int width = reference_image.width(), height = reference_image.height();
     reference::Tracer<double> reference(scene);
-    std::vector<Curvature> curvature = curvatures(scene);
+    std::vector<LeafFacts> facts = leaf_facts(scene);
     Attribution attribution;
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
@@ -502,7 +568,7 @@ Attribution attribute_pixels(const scene::Scene& scene, const Image& reference_i
             RayTree expected, traced;
             reference.trace(reference.primary_ray(x, y, width, height), 1, nullptr, &expected);
             actual.trace_primary(x, y, width, height, traced);
-            PixelCause cause = attribute_with(scene, curvature, reference, expected, traced);
+            PixelCause cause = attribute_with(scene, facts, reference, expected, traced);
             ++attribution.counts[static_cast<std::size_t>(cause.cause)];
             if (cause.cause == Cause::unexplained) {
                 attribution.unexplained.push_back({x, y, error, cause});
