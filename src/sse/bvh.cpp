@@ -477,16 +477,16 @@ Bvh collapse(BinaryTree&& binary) {
 
 }  // namespace
 
-// The item's box padded (as scene::around with bvh_padding times its largest |coordinate|) and rounded
-// outward, in SSE2 doubles: the same IEEE operations as the scalar formula, a pair at a time.
-BvhInput::BvhInput(const scene::Bounds& bounds, BvhItem item) {
+// The item's box padded (as scene::around with `padding` times its largest |coordinate|) and rounded outward, in SSE2
+// doubles: the same IEEE operations as the scalar formula, a pair at a time.
+BvhInput::BvhInput(const scene::Bounds& bounds, BvhItem item, double padding) {
     __m128d a_xy = _mm_loadu_pd(&bounds.low[0]), a_z = _mm_load_sd(&bounds.low[2]);
     __m128d b_xy = _mm_loadu_pd(&bounds.high[0]), b_z = _mm_load_sd(&bounds.high[2]);
     __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(std::numeric_limits<std::int64_t>::max()));
     __m128d largest = _mm_max_pd(_mm_max_pd(_mm_and_pd(a_xy, magnitude), _mm_and_pd(b_xy, magnitude)),
                                  _mm_max_sd(_mm_and_pd(a_z, magnitude), _mm_and_pd(b_z, magnitude)));
     largest = _mm_max_sd(largest, _mm_unpackhi_pd(largest, largest));
-    __m128d pad = _mm_add_sd(_mm_mul_sd(_mm_set_sd(bvh_padding), largest), _mm_set_sd(1e-30));
+    __m128d pad = _mm_add_sd(_mm_mul_sd(_mm_set_sd(padding), largest), _mm_set_sd(1e-30));
     pad = _mm_unpacklo_pd(pad, pad);
     // std::min(a, b) is b only where b < a, as minpd(b, a); std::max(a, b) likewise maxpd(b, a).
     __m128 low_bound =

@@ -51,15 +51,22 @@ struct BvhLeaf {
 constexpr int bvh_max_depth = 64;
 constexpr int bvh_stack_size = 3 * bvh_max_depth + 1;
 
+// Box tests stay conservative against the float kernels (docs/sse-tracer.md, "The BVH"): every box is padded
+// outward by this share of its largest |coordinate| before it is rounded outward to float, and every ray's
+// origin by the same share of its own (bvh_traversal.h). 2⁻¹³ is 2048 float ulps, far beyond any kernel's
+// rounding of a hit point (a few ulps of the distances involved).
+constexpr double bvh_padding = 1.0 / 8192.0;
+
 // One item as the build takes it and moves it: its bounds in the compiled scene's coordinates (double, finite)
-// padded by bvh_padding of their largest |coordinate| and rounded outward to float, and its item, packed. 32
-// bytes, so that partitioning moves whole cache-line halves, and the build sorts the very array it is given: at a
-// million items, no second copy of them (32 MB) and no double bounds (56 MB) beside the binary tree.
+// padded by `padding` (bvh_padding, or an instance's instance_item_padding) of their largest |coordinate| and rounded
+// outward to float, and its item, packed. 32 bytes, so that partitioning moves whole cache-line halves, and the build
+// sorts the very array it is given: at a million items, no second copy of them (32 MB) and no double bounds (56 MB)
+// beside the binary tree.
 struct alignas(16) BvhInput {
     static constexpr std::uint32_t index_bits = 28;  // BvhItem::list in the 4 bits above
     static constexpr std::uint32_t list_count = std::uint32_t{1} << (32 - index_bits);
 
-    BvhInput(const scene::Bounds& bounds, BvhItem item);
+    BvhInput(const scene::Bounds& bounds, BvhItem item, double padding = bvh_padding);
     BvhItem item() const { return {packed_item >> index_bits, packed_item & ((std::uint32_t{1} << index_bits) - 1)}; }
 
     float low[3];
@@ -78,12 +85,6 @@ struct Bvh {
 
     bool empty() const { return nodes.empty(); }
 };
-
-// Box tests stay conservative against the float kernels (docs/sse-tracer.md, "The BVH"): every box is padded
-// outward by this share of its largest |coordinate| before it is rounded outward to float, and every ray's
-// origin by the same share of its own (bvh_traversal.h). 2⁻¹³ is 2048 float ulps, far beyond any kernel's
-// rounding of a hit point (a few ulps of the distances involved).
-constexpr double bvh_padding = 1.0 / 8192.0;
 
 // A shape's BVH holds triangles alone and is walked in the shape's own space, where a ray from far away has a large
 // |o'| against small boxes: a tree of the forest of 100 000 (2.8 units tall) lies 390 to 2 100 of its units from the

@@ -4,8 +4,9 @@
 //
 // Why the answers stay those of brute force (docs/sse-tracer.md, "The BVH"): a kernel's hit point lies
 // within a few float ulps of its primitive, every box is padded by bvh_padding of its coordinates and every
-// ray's origin by bvh_padding of its own, far more; so a ray's box test passes at any t where its kernel
-// could report a crossing, and a leaf is skipped only if none of its items could change the lane's answer.
+// ray's origin by bvh_padding of its own, far more (by less what needs less: a shape's triangles, shape_ray_padding;
+// instances, whose own boxes both ways test, instance_box_padding); so a ray's box test passes at any t where its
+// kernel could report a crossing, and a leaf is skipped only if none of its items could change the lane's answer.
 #pragma once
 
 #include "sse/compiled_scene.h"
@@ -17,15 +18,15 @@
 namespace twinray::sse {
 
 // A packet's rays as its box tests need them: 1/d as an IEEE division (whatever the precision knobs), and the
-// origin moved by δ = padding·|o|∞ (per lane; bvh_padding, or a shape's shape_ray_padding) towards each face, which
-// pads every box by δ for this ray at no cost per node: the low faces' t is (low − δ − o)/d, the high faces'
-// (high + δ − o)/d.
+// origin moved by δ = padding·|o|∞ (per lane; the top level's CompiledScene::top_ray_padding, or a shape's
+// shape_ray_padding) towards each face, which pads every box by δ for this ray at no cost per node: the low faces'
+// t is (low − δ − o)/d, the high faces' (high + δ − o)/d.
 struct BvhRays {
     Vec3x4 low_face_origin;   // o + δ
     Vec3x4 high_face_origin;  // o − δ
     Vec3x4 inverse_direction;
 
-    TWINRAY_KERNEL explicit BvhRays(const RayPacket& rays, float padding = static_cast<float>(bvh_padding)) {
+    TWINRAY_KERNEL BvhRays(const RayPacket& rays, float padding) {
         vfloat4 delta = vfloat4(padding) * max_abs_component(rays.origin) + vfloat4(1e-30f);
         for (int axis = 0; axis < 3; ++axis) {
             low_face_origin[axis] = rays.origin[axis] + delta;
@@ -34,6 +35,11 @@ struct BvhRays {
         }
     }
 };
+
+// The top level's: the scene's rays padded by CompiledScene::top_ray_padding, with or without a BVH alike.
+inline BvhRays top_level_rays(const CompiledScene& scene, const RayPacket& rays) {
+    return BvhRays(rays, scene.top_ray_padding);
+}
 
 struct NodeTest {
     vfloat4 near;  // where each lane enters the box (0 if it starts inside); +∞ for lanes that miss it
@@ -531,9 +537,10 @@ void for_each_span_in_leaf(const CompiledScene& scene, BvhLeaf leaf, const RayPa
 
 // A walk again for CsgCandidates::for_each's next round: the CSG objects of every leaf some lane of `lanes` meets
 // before its t_max, add()ed to `csg`, as for_each_span_in_leaf adds them.
-inline void collect_csg_again(const CompiledScene& scene, const BvhRays& rays, vbool4 lanes, const vfloat4& t_max,
+inline void collect_csg_again(const CompiledScene& scene, const RayPacket& rays, vbool4 lanes, const vfloat4& t_max,
                               CsgCandidates& csg) {
-    for_each_leaf_met(scene.bvh, scene.bvh.items, rays, lanes, t_max, [&](const BvhLeaf& leaf) {
+    const BvhRays box_rays = top_level_rays(scene, rays);
+    for_each_leaf_met(scene.bvh, scene.bvh.items, box_rays, lanes, t_max, [&](const BvhLeaf& leaf) {
         for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
             if (scene.bvh.items[i].list == csg_list) {
                 csg.add(scene.bvh.items[i].index);

@@ -185,6 +185,7 @@ public:
             bounded.reserve(scene_.objects.size() + scene_.solid_instances.size() + mesh_items);
         }
         std::vector<BvhItem> unbounded;
+        bool bounded_besides_instances = false;  // a bounded item other than an instance of a mesh shape
         for (const scene::Object& object : scene_.objects) {
             BvhItem item;
             scene::Bounds bounds;
@@ -198,7 +199,10 @@ public:
             }
             if (!is_finite(bounds)) {
                 unbounded.push_back(item);
-            } else if (with_bvh) {
+                continue;
+            }
+            bounded_besides_instances = true;
+            if (with_bvh) {
                 bounded.emplace_back(bounds, item);
             }
         }
@@ -215,7 +219,10 @@ public:
                                static_cast<std::int32_t>(i), item);
             if (!is_finite(bounds)) {
                 unbounded.push_back(item);
-            } else if (with_bvh) {
+                continue;
+            }
+            bounded_besides_instances = true;
+            if (with_bvh) {
                 bounded.emplace_back(bounds, item);
             }
         }
@@ -226,10 +233,13 @@ public:
         for (const scene::Mesh& mesh : scene_.meshes) {
             if (!mesh.placement) {
                 add_mesh(out, mesh, any_smooth, with_bvh ? &bounded : nullptr);
+                bounded_besides_instances = true;
             } else if (with_bvh) {
                 const auto shape = static_cast<std::size_t>(mesh.placement->shape);
-                bounded.emplace_back(scene::placed_bounds(shape_bounds[shape], mesh.placement->transform()),
-                                     BvhItem{instance_list, instance_index++});
+                const scene::Transform to_world = mesh.placement->transform();
+                bounded.emplace_back(scene::placed_bounds(shape_bounds[shape], to_world),
+                                     BvhItem{instance_list, instance_index++},
+                                     instance_item_padding(condition_of(scene::transform_norms<float>(to_world))));
             }
         }
         // The last reading of the scene's objects: they (72 bytes each) are given up before the build, and neither
@@ -244,6 +254,13 @@ public:
         add_leaf_table(out, instance_leaves);
         // After the build, which keeps their order: its arrays and a million records (116 MB) are never held at once.
         add_instances(out, mesh_instances);
+        if (!bounded_besides_instances && !out.instances.empty()) {
+            double largest_condition = 0;
+            for (const InstanceRecord& instance : out.instances) {
+                largest_condition = std::max(largest_condition, condition_of(instance.norms));
+            }
+            out.top_ray_padding = static_cast<float>(instance_ray_padding(largest_condition));
+        }
         // No mesh is read again: the scene's (136 bytes an instance) go before the boxes come.
         give_up(&scene::Scene::meshes);
         add_instance_boxes(out);
@@ -710,7 +727,8 @@ InstanceBox instance_box(const CompiledScene& scene, std::uint32_t record) {
                                    _mm_mul_ps(_mm_andnot_ps(sign, z), spread<2>(h).m));
     const __m128 far = _mm_add_ps(_mm_andnot_ps(sign, center), half);
     const __m128 reach = _mm_max_ss(_mm_max_ss(far, _mm_movehl_ps(far, far)), _mm_shuffle_ps(far, far, 1));
-    const __m128 pad = _mm_mul_ss(reach, _mm_set_ss(static_cast<float>(bvh_padding)));
+    const __m128 pad =
+        _mm_mul_ss(reach, _mm_set_ss(static_cast<float>(instance_box_padding(condition_of(instance.norms)))));
     const __m128 padded = _mm_add_ps(half, _mm_shuffle_ps(pad, pad, 0));
     // A shape reaching past float's range (a vertex at 1e290) has an infinite box, and ∞ − ∞ makes its instance's faces
     // NaN, which a box test then passes for brute force and drops for the BVH's ordering by entry: such a face is the

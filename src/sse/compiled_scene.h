@@ -325,6 +325,10 @@ struct CompiledScene {
     // One per instance: with a BVH in the order of its leaves (an instance's BvhItem::index is its place here), else
     // in file order.
     LargeArray<InstanceBox> instance_boxes;
+    // What the top level pads its rays' origins by, a share of |o|∞ (top_level_rays), with or without a BVH alike:
+    // bvh_padding, which the kernels of primitives, CSG objects and a scene's own triangles need, or where every
+    // bounded item is an instance of a mesh shape, instance_ray_padding of the largest κ among them.
+    float top_ray_padding = static_cast<float>(bvh_padding);
     // The solid shapes and their instances (InstanceRecord::shape indexes `solids`), in file order; each instance
     // is also a CSG object.
     std::vector<CompiledSolid> solids;
@@ -334,8 +338,8 @@ struct CompiledScene {
     Bvh bvh;
     double bvh_build_cpu_seconds = 0;  // build_bvh alone (one thread), for twinray bench
     // With Accel::automatic, what brute force would spend per packet on the bounded items, in sphere tests: it builds
-    // the BVH above `crossover`, bvh_crossover or bvh_crossover_with_secondary_rays (twinray bench --scaling's crossover
-    // table sets them beside the measured ones).
+    // the BVH above `crossover`, bvh_crossover or bvh_crossover_with_secondary_rays (twinray bench --scaling's
+    // crossover table sets them beside the measured ones).
     double brute_force_weight = 0;
     std::size_t crossover = bvh_crossover;
     PrimitiveLists unbounded;
@@ -371,9 +375,38 @@ struct CompiledScene {
 // instances' boxes are made.
 CompiledScene compile(const scene::Scene& scene, Accel accel = Accel::automatic, scene::Scene* given_up = nullptr);
 
+// An instance's box in the world decides which instances a ray enters, alike for the BVH and brute force, which both
+// test it against the same rays (instance_item_padding, CompiledScene::top_ray_padding). What it must hold is every
+// crossing its shape's walk can find: a point within a few ulps of the shape's box in its own space, so in the world
+// within the rounding of the ray's trip there of the exactly placed box, κ·12u·(|o − t|∞ + s) with κ = ‖L‖_F·‖L⁻¹‖_F
+// and s the crossing's distance, at most |o|∞ and the box's reach (docs/conformance.md, "The band"). The box's padding
+// holds the part that grows with the shape's place: κ·2⁻¹⁸ (64·κ u) of its largest |coordinate|, and 2⁻²⁰ more for
+// the rounding of making it; the ray's padding holds the part that grows with |o|∞: instance_ray_padding. At κ = 3
+// (any evenly scaled instance), 208 u where bvh_padding is 2048.
+inline double instance_box_padding(double condition) {
+    return condition * 0x1p-18 + 0x1p-20;
+}
+
+// The ray's part (above), κ·2⁻¹⁸ of |o|∞, at most bvh_padding: past κ = 32 a ray's padding stays what it was before
+// instances had their own, so that one badly conditioned instance does not widen every box for every ray; a crossing
+// its box then leaves out lies within the trip's rounding, as the attribution grants a placed surface.
+inline double instance_ray_padding(double condition) {
+    return std::min(condition * 0x1p-18, bvh_padding);
+}
+
+// κ as an instance's record holds it, its norms rounded up: what its box and its item are padded by.
+inline double condition_of(const scene::TransformNorms<float>& norms) {
+    return static_cast<double>(norms.stretch) * static_cast<double>(norms.shrink);
+}
+
+// The share an instance's item in the scene's BVH is padded by: 2⁻²⁰ more than its box in the world, so that the BVH's
+// box holds that box whatever float rounded in making it, and the BVH meets every instance brute force meets.
+inline double instance_item_padding(double condition) {
+    return instance_box_padding(condition) + 0x1p-20;
+}
+
 // The instance `record`'s box in the world: its shape's box carried out (|L|·half extent about L·centre + t) and
-// padded by bvh_padding of its largest |coordinate|, as the BVH pads the boxes it holds (bvh.h), which far exceeds the
-// float rounding of these few sums of products (a few ulps of the same coordinates).
+// padded by instance_box_padding of its largest |coordinate|.
 InstanceBox instance_box(const CompiledScene& scene, std::uint32_t record);
 
 }  // namespace twinray::sse

@@ -257,7 +257,7 @@ public:
             };
             csg.collect();
             vbool4 lanes = rays.active;
-            const BvhRays box_rays(rays);
+            const BvhRays box_rays = top_level_rays(scene_, rays);
             InstancesByDistance instances;
             for_each_leaf_met(scene_.bvh, scene_.bvh.items, box_rays, lanes, nearest.t, [&](BvhLeaf leaf) {
                 for_each_span_in_leaf<P>(
@@ -275,7 +275,7 @@ public:
                 for_each_triangle_crossing<P>(scene_.triangles, *sheared, keep_triangle);
             }
             if (!scene_.instances.empty()) {
-                const BvhRays box_rays(rays);
+                const BvhRays box_rays = top_level_rays(scene_, rays);
                 for (std::uint32_t i = 0; i < scene_.instance_boxes.size(); ++i) {
                     meet_instance(rays, box_rays, i, nearest, nullptr);
                 }
@@ -284,7 +284,7 @@ public:
         if (!scene_.csg_objects.empty()) {
             nearest_csg_crossings(rays, nearest, [&](auto&& visit) {
                 csg.for_each(
-                    scene_, [&] { collect_csg_again(scene_, BvhRays(rays), rays.active, nearest.t, csg); }, visit);
+                    scene_, [&] { collect_csg_again(scene_, rays, rays.active, nearest.t, csg); }, visit);
             });
             if (fallbacks != nullptr && csg.walked_again()) {
                 fallbacks->csg_candidates = true;
@@ -353,7 +353,7 @@ public:
         if (!scene_.bvh.empty()) {
             csg.collect();
             vbool4 lanes = rays.active;
-            const BvhRays box_rays(rays);
+            const BvhRays box_rays = top_level_rays(scene_, rays);
             for_each_leaf_met(scene_.bvh, scene_.bvh.items, box_rays, lanes, vfloat4(distance), [&](BvhLeaf leaf) {
                 for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, add_span, add_mesh_triangle,
                                          [&](std::uint32_t box_place) { add_instance(box_rays, box_place); });
@@ -363,14 +363,14 @@ public:
                 for_each_triangle_crossing<P>(scene_.triangles, *sheared, add_mesh_triangle);
             }
             if (!scene_.instances.empty()) {
-                const BvhRays box_rays(rays);
+                const BvhRays box_rays = top_level_rays(scene_, rays);
                 for (std::uint32_t i = 0; i < scene_.instance_boxes.size(); ++i) {
                     add_instance(box_rays, i);
                 }
             }
         }
         const vfloat4 limit(distance);
-        auto walk_again = [&] { collect_csg_again(scene_, BvhRays(rays), rays.active, limit, csg); };
+        auto walk_again = [&] { collect_csg_again(scene_, rays, rays.active, limit, csg); };
         csg.for_each(scene_, walk_again, [&](const CsgObject& object) {
             SpanArray spans;
             const CsgEvaluation<P> evaluation(scene_, object, rays);

@@ -165,7 +165,7 @@ public:
             for_each_span<P>(scene_.flat(), rays, block);
             if (!scene_.bvh.empty() && any(open)) {
                 csg.collect();
-                const BvhRays box_rays(rays);
+                const BvhRays box_rays = top_level_rays(scene_, rays);
                 for_each_leaf_met(scene_.bvh, scene_.bvh.items, box_rays, open, distance, [&](BvhLeaf leaf) {
                     for_each_span_in_leaf<P>(scene_, leaf, rays, sheared, csg, block, block_triangle,
                                              [&](std::uint32_t box_place) { block_instance(box_rays, box_place); });
@@ -178,7 +178,7 @@ public:
                     for_each_triangle_crossing<P>(scene_.triangles, *sheared, block_triangle);
                 }
                 if (!scene_.instances.empty()) {
-                    const BvhRays box_rays(rays);
+                    const BvhRays box_rays = top_level_rays(scene_, rays);
                     for (std::uint32_t i = 0; i < scene_.instance_boxes.size(); ++i) {
                         block_instance(box_rays, i);
                     }
@@ -207,7 +207,7 @@ public:
                         factors.add({triangle_list, leaf, between, none_true(), material_transmission(leaf)});
                     }
                 };
-                const BvhRays box_rays(rays);
+                const BvhRays box_rays = top_level_rays(scene_, rays);
                 auto record_instance = [&](std::uint32_t box_place) {
                     const InstanceBox& box = scene_.instance_boxes[box_place];
                     const InstanceRecord& instance = scene_.instances[box.record];
@@ -262,7 +262,7 @@ public:
                         });
                 }
                 if (!scene_.instances.empty()) {
-                    const BvhRays box_rays(rays);
+                    const BvhRays box_rays = top_level_rays(scene_, rays);
                     // In file order, the records' own, whatever order the boxes are in.
                     for (std::uint32_t record = 0; record < scene_.instances.size(); ++record) {
                         const float transmission = transmission_of(scene_.instances[record]);
@@ -284,7 +284,7 @@ public:
         transmittance.store(product);
         multiply_csg(rays, distance, open, product, [&](auto&& visit) {
             csg.for_each(
-                scene_, [&] { collect_csg_again(scene_, BvhRays(rays), lanes, distance, csg); }, visit);
+                scene_, [&] { collect_csg_again(scene_, rays, lanes, distance, csg); }, visit);
         });
         if (fallbacks != nullptr && csg.walked_again()) {
             fallbacks->csg_candidates = true;
