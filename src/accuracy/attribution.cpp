@@ -120,17 +120,26 @@ struct LeafFacts {
     }
 };
 
+// A transformed primitive's transform (scene::Transformed); null for any other primitive.
+const scene::Transform* own_transform(const scene::Object& primitive) {
+    return std::visit(
+        [](const auto& shape) -> const scene::Transform* {
+            if constexpr (requires { shape.to_world(); }) {
+                return &shape.to_world();
+            } else {
+                return nullptr;
+            }
+        },
+        primitive.shape);
+}
+
 // The largest κ of a primitive's own transform (1 for none), over the primitives of an object.
 double largest_own_condition(const scene::Object& object) {
     double largest = 1;
     for_each_primitive(object, [&](const scene::Object& primitive) {
-        std::visit(
-            [&](const auto& shape) {
-                if constexpr (requires { shape.to_world(); }) {
-                    largest = std::max(largest, scene::condition_number(shape.to_world()));
-                }
-            },
-            primitive.shape);
+        if (const scene::Transform* to_world = own_transform(primitive)) {
+            largest = std::max(largest, scene::condition_number(*to_world));
+        }
     });
     return largest;
 }
@@ -162,13 +171,9 @@ std::vector<LeafFacts> leaf_facts(const scene::Scene& scene) {
         for_each_primitive(object, [&](const scene::Object& primitive) {
             LeafFacts& facts = by_leaf[static_cast<std::size_t>(primitive.leaf)];
             facts.primitive = &primitive;
-            std::visit(
-                [&](const auto& shape) {
-                    if constexpr (requires { shape.to_world(); }) {
-                        facts.place(shape.to_world());
-                    }
-                },
-                primitive.shape);
+            if (const scene::Transform* to_world = own_transform(primitive)) {
+                facts.place(*to_world);
+            }
         });
     }
     for (const scene::SolidInstance& instance : scene.solid_instances) {
