@@ -846,6 +846,7 @@ TEST_F(Bvh, InstancesAloneAreMetAsByBruteForceUnderTheirOwnPadding) {
         walk(compiled.bvh, [&](const BvhNode& node, int) {
             for (int c = 0; c < 4 && node.count[c] != BvhNode::empty_child; ++c) {
                 for (std::uint32_t i = node.first[c]; node.count[c] > 0 && i < node.first[c] + node.count[c]; ++i) {
+                    ASSERT_EQ(compiled.bvh.items[i].list, instance_list) << name;
                     const InstanceBox& box = compiled.instance_boxes[compiled.bvh.items[i].index];
                     for (int axis = 0; axis < 3; ++axis) {
                         EXPECT_LE(node.low[axis][c], box.low[axis]) << name << ", instance " << box.record;
