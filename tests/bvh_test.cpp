@@ -843,14 +843,15 @@ TEST_F(Bvh, InstancesAloneAreMetAsByBruteForceUnderTheirOwnPadding) {
             EXPECT_EQ(compiled.top_ray_padding, static_cast<float>(bvh_padding)) << name;
         }
         std::size_t held = 0;
+        const std::string label = name;  // clang 14 lets no lambda capture a structured binding
         walk(compiled.bvh, [&](const BvhNode& node, int) {
             for (int c = 0; c < 4 && node.count[c] != BvhNode::empty_child; ++c) {
                 for (std::uint32_t i = node.first[c]; node.count[c] > 0 && i < node.first[c] + node.count[c]; ++i) {
-                    ASSERT_EQ(compiled.bvh.items[i].list, instance_list) << name;
+                    ASSERT_EQ(compiled.bvh.items[i].list, instance_list) << label;
                     const InstanceBox& box = compiled.instance_boxes[compiled.bvh.items[i].index];
                     for (int axis = 0; axis < 3; ++axis) {
-                        EXPECT_LE(node.low[axis][c], box.low[axis]) << name << ", instance " << box.record;
-                        EXPECT_GE(node.high[axis][c], box.high[axis]) << name << ", instance " << box.record;
+                        EXPECT_LE(node.low[axis][c], box.low[axis]) << label << ", instance " << box.record;
+                        EXPECT_GE(node.high[axis][c], box.high[axis]) << label << ", instance " << box.record;
                     }
                     ++held;
                 }
