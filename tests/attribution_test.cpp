@@ -23,27 +23,36 @@ using namespace twinray;
 // tracer's ordinary drift.
 constexpr double judged_above = 1e-6;
 
+// Every pixel of `rendered` (the SSE tracer's render of it) that differs from the reference's render of `truth`,
+// attributed against `truth`.
+accuracy::Attribution attribute_renders(const scene::Scene& truth, const scene::Scene& rendered) {
+    RenderOptions options;
+    options.threads = 2;
+    Image expected = reference::render<double>(truth, options).image;
+    const std::unique_ptr<tracing::AnyTracer> sse = tracing::make_tracer("sse", rendered);
+    Image actual = sse->render(options).image;
+    return accuracy::attribute_pixels(truth, expected, actual, *sse, judged_above);
+}
+
+long count_of(const accuracy::Attribution& attribution, accuracy::Cause cause) {
+    return attribution.counts[static_cast<std::size_t>(cause)];
+}
+
 TEST(Attribution, EveryPixelOfEverySceneThatDiffersHasAnExplainedCause) {
     if (!sse::cpu_supports_sse41()) {
         GTEST_SKIP() << sse::missing_sse41_message();
     }
     for (const fs::path& path : test::scene_files()) {
-        scene::Scene scene = scene::load_scene(path);
-        RenderOptions options;
-        options.threads = 2;
-        Image expected = reference::render<double>(scene, options).image;
-        const std::unique_ptr<tracing::AnyTracer> sse = tracing::make_tracer("sse", scene);
-        Image actual = sse->render(options).image;
-        accuracy::Attribution attribution = accuracy::attribute_pixels(scene, expected, actual, *sse, judged_above);
+        const scene::Scene scene = scene::load_scene(path);
+        const accuracy::Attribution attribution = attribute_renders(scene, scene);
         std::printf("[ measured ] %-10s", path.stem().c_str());
         for (int c = 0; c < accuracy::cause_count; ++c) {
-            std::printf(" %s %ld", accuracy::cause_name(static_cast<accuracy::Cause>(c)),
-                        attribution.counts[static_cast<std::size_t>(c)]);
+            const auto cause = static_cast<accuracy::Cause>(c);
+            std::printf(" %s %ld", accuracy::cause_name(cause), count_of(attribution, cause));
         }
         std::printf("\n");
         // The verdict rule twinray diff applies, here to many more pixels than its warn threshold lets in.
-        EXPECT_EQ(accuracy::attribution_failure(attribution, static_cast<long>(expected.width()) * expected.height()),
-                  "")
+        EXPECT_EQ(accuracy::attribution_failure(attribution, static_cast<long>(scene.width) * scene.height), "")
             << path.stem();
         for (std::size_t i = 0; i < std::min<std::size_t>(5, attribution.unexplained.size()); ++i) {
             const accuracy::AttributedPixel& p = attribution.unexplained[i];
@@ -88,21 +97,6 @@ TEST(Attribution, ATracerWithAWrongModelLeavesPixelsUnexplained) {
         std::printf("[ measured ] %s: %ld of %ld diverging pixels unexplained\n", name, unexplained, judged);
         EXPECT_GT(unexplained, judged / 2) << name;
     }
-}
-
-// Every pixel of `rendered` (the SSE tracer's render of it) that differs from the reference's render of `truth`,
-// attributed against `truth`.
-accuracy::Attribution attribute_renders(const scene::Scene& truth, const scene::Scene& rendered) {
-    RenderOptions options;
-    options.threads = 2;
-    Image expected = reference::render<double>(truth, options).image;
-    const std::unique_ptr<tracing::AnyTracer> sse = tracing::make_tracer("sse", rendered);
-    Image actual = sse->render(options).image;
-    return accuracy::attribute_pixels(truth, expected, actual, *sse, judged_above);
-}
-
-long count_of(const accuracy::Attribution& attribution, accuracy::Cause cause) {
-    return attribution.counts[static_cast<std::size_t>(cause)];
 }
 
 // A plate scaled by 1e4 after a turn of 45° (κ ≈ 1.4e4), its far end seen from 8 700 away: float's trip into the
