@@ -91,7 +91,7 @@ constexpr double trip_rounding = 12 * unit_roundoff;
 // at a point each primitive type gives (scene::curvature_radius); a mesh's shading radius; or on an instance of a solid
 // shape, the part's primitive in the shape's space. And where the leaf lies in a space of its own, what the trip there
 // costs a ray: κ of its transform (0 where it has none; on an instance of a solid shape, times the largest of its
-// parts' own) and the transform's translation.
+// parts' own), the transform's translation, and the leaf's box in the world (where a shadow ray may pass it).
 struct LeafFacts {
     const scene::Object* primitive = nullptr;
     double mesh_radius = infinity;
@@ -99,6 +99,7 @@ struct LeafFacts {
     const scene::SolidShape* shape = nullptr;  // the instance's
     double condition = 0;
     Vec3d translation{};  // of its transform
+    scene::Bounds bounds{};
 
     double radius_at(const Vec3d& point, int part) const {
         if (instance == nullptr || part < 0) {
@@ -114,9 +115,10 @@ struct LeafFacts {
         return radius;
     }
 
-    void place(const scene::Transform& to_world, double inner_condition = 1) {
+    void place(const scene::Transform& to_world, const scene::Bounds& placed, double inner_condition = 1) {
         condition = scene::condition_number(to_world) * inner_condition;
         translation = to_world.translation;
+        bounds = placed;
     }
 };
 
@@ -172,19 +174,28 @@ std::vector<LeafFacts> leaf_facts(const scene::Scene& scene) {
             LeafFacts& facts = by_leaf[static_cast<std::size_t>(primitive.leaf)];
             facts.primitive = &primitive;
             if (const scene::Transform* to_world = own_transform(primitive)) {
-                facts.place(*to_world);
+                facts.place(*to_world, scene::bounds(primitive));
             }
         });
     }
+    std::vector<scene::Bounds> solid_bounds;
+    for (const scene::SolidShape& shape : scene.solid_shapes) {
+        solid_bounds.push_back(scene::bounds(shape.tree));
+    }
     for (const scene::SolidInstance& instance : scene.solid_instances) {
         LeafFacts& facts = by_leaf[static_cast<std::size_t>(instance.leaf)];
+        const auto shape = static_cast<std::size_t>(instance.placement.shape);
         facts.instance = &instance;
-        facts.shape = &scene.solid_shapes[static_cast<std::size_t>(instance.placement.shape)];
-        facts.place(instance.placement.transform(), largest_own_condition(facts.shape->tree));
+        facts.shape = &scene.solid_shapes[shape];
+        const scene::Transform to_world = instance.placement.transform();
+        facts.place(to_world, scene::placed_bounds(solid_bounds[shape], to_world),
+                    largest_own_condition(facts.shape->tree));
     }
     std::vector<double> shape_radius;
+    std::vector<scene::Bounds> mesh_bounds;
     for (const scene::MeshShape& shape : scene.mesh_shapes) {
         shape_radius.push_back(shading_radius(*shape.data));
+        mesh_bounds.push_back(scene::vertex_bounds(*shape.data));
     }
     for (const scene::Mesh& mesh : scene.meshes) {
         double& radius = by_leaf[static_cast<std::size_t>(mesh.leaf)].mesh_radius;
@@ -192,9 +203,11 @@ std::vector<LeafFacts> leaf_facts(const scene::Scene& scene) {
             radius = shading_radius(*mesh.data);
             continue;
         }
-        radius =
-            placed_radius(shape_radius[static_cast<std::size_t>(mesh.placement->shape)], mesh.placement->transform());
-        by_leaf[static_cast<std::size_t>(mesh.leaf)].place(mesh.placement->transform());
+        const auto shape = static_cast<std::size_t>(mesh.placement->shape);
+        const scene::Transform to_world = mesh.placement->transform();
+        radius = placed_radius(shape_radius[shape], to_world);
+        by_leaf[static_cast<std::size_t>(mesh.leaf)].place(to_world,
+                                                           scene::placed_bounds(mesh_bounds[shape], to_world));
     }
     return by_leaf;
 }
@@ -301,11 +314,39 @@ bool replay_agrees(const reference::Tracer<double>& reference, const RayNode& ac
     return false;
 }
 
+// How far the trip into a placed leaf's space may move a shadow ray from `origin` to the light at `position` where the
+// ray passes the leaf: the trip's offset, and its turn over the ray's length up to where it leaves the leaf's box. The
+// most over the leaves whose box, widened by that and by `pad`, the ray passes; the ray tree does not record which
+// leaf blocked a shadow ray.
+double occluder_trip(const std::vector<LeafFacts>& facts, const Vec3d& origin, const Vec3d& position, double pad) {
+    const RefRay segment{to_ref(origin), to_ref(position) - to_ref(origin)};  // the origin at t = 0, the light at 1
+    const double length = reference::length(segment.direction);
+    double most = 0;
+    for (const LeafFacts& leaf : facts) {
+        const double per_unit = leaf.condition * trip_rounding;
+        const double offset = per_unit * max_abs_difference(origin, leaf.translation);
+        // Turned over the whole ray: the widest box the move needs, which holds the box that leaving sooner needs.
+        const double widest = offset + per_unit * length;
+        if (!(widest > most)) {
+            continue;
+        }
+        const scene::Bounds box = scene::around(leaf.bounds.low, leaf.bounds.high, pad + widest);
+        const auto span = reference::span_of(reference::BoxShape<double>{to_ref(box.low), to_ref(box.high)}, segment);
+        if (span && span->exit.t >= 0 && span->enter.t <= 1) {
+            most = std::max(most, offset + per_unit * length * std::min(span->exit.t, 1.0));
+        }
+    }
+    return most;
+}
+
 // A light seen otherwise by the two tracers. Facing away in one tree only: N·L is within what the band
 // lets the normal and the point move it. Blocked in one tree only: the reference, casting shadow rays from
-// the SSE tracer's shadow origin or within the band of it, finds it blocked or open as the SSE tracer did.
-bool light_flip_explained(const scene::Scene& scene, const reference::Tracer<double>& reference,
-                          const RayNode& expected, const RayNode& actual, std::size_t light, const Band& band) {
+// the SSE tracer's shadow origin or within the band of it along the surface, finds it blocked or open as the SSE
+// tracer did; past a placed leaf, the ray moved across as a whole by what the trip into its space may move it
+// (occluder_trip), too.
+bool light_flip_explained(const scene::Scene& scene, const std::vector<LeafFacts>& facts,
+                          const reference::Tracer<double>& reference, const RayNode& expected, const RayNode& actual,
+                          std::size_t light, const Band& band) {
     const LightVisibility& mine = expected.lights[light];
     const LightVisibility& theirs = actual.lights[light];
     RefVec position = to_ref(scene.lights[light].position);
@@ -318,14 +359,29 @@ bool light_flip_explained(const scene::Scene& scene, const reference::Tracer<dou
     if ((reference.shadow_transmittance(origin, position) == 0) == blocked) {
         return true;
     }
-    for (const RefVec& side : across(reference::normalize(position - origin))) {
-        for (double sign : {-1.0, 1.0}) {
-            if ((reference.shadow_transmittance(origin + (sign * band.point) * side, position) == 0) == blocked) {
-                return true;
+    // The origin slides along the surface, as the hit point does (add_hit): moved across the shadow ray instead, it
+    // sank under the surface it starts from, which then blocked it. The whole ray moves by `trip` across itself (a
+    // side along the surface is at least |N·L| across the ray, and N·L > 0 where a shadow ray is cast).
+    const RefVec direction = reference::normalize(position - origin);
+    const std::array<RefVec, 2> along_surface = across(to_ref(actual.normal));
+    auto agrees_moved = [&](double trip) {
+        for (const RefVec& side : along_surface) {
+            const double across_ray = reference::length(side - reference::dot(side, direction) * direction);
+            for (double sign : {-1.0, 1.0}) {
+                const RefVec trip_move = (sign * trip / across_ray) * side;
+                if ((reference.shadow_transmittance(origin + (sign * band.point) * side + trip_move,
+                                                    position + trip_move) == 0) == blocked) {
+                    return true;
+                }
             }
         }
+        return false;
+    };
+    if (agrees_moved(0)) {
+        return true;
     }
-    return false;
+    const double trip = occluder_trip(facts, theirs.shadow_origin, scene.lights[light].position, band.point);
+    return trip > 0 && agrees_moved(trip);
 }
 
 // Refracted in one tree, totally reflected in the other: sin²θt = η²(1 − cos²θi) is within what the band
@@ -487,7 +543,7 @@ PixelCause judge_flip(const scene::Scene& scene, const std::vector<LeafFacts>& f
         cause.cause = Cause::shadow;
         std::size_t light = static_cast<std::size_t>(std::stoul(what.substr(7)));
         explained = light < p.lights.size() && light < q.lights.size() &&
-                    light_flip_explained(scene, reference, p, q, light, band);
+                    light_flip_explained(scene, facts, reference, p, q, light, band);
     }
     if (!explained) {
         cause.cause = Cause::unexplained;
