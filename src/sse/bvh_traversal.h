@@ -204,10 +204,11 @@ void walk_one_lane(const Bvh& bvh, const LargeArray<Record>& leaf_records, const
 // Calls at_leaf(BvhLeaf) for every leaf whose box some lane of `lanes` meets before its `t_max`. at_leaf may
 // lower t_max and clear lanes (rays that are done); both are read again at every node, and the walk stops
 // when no lane is left. A node's children met are visited nearest first (by the least entry of any lane).
-// Below a node only one lane still meets, that lane walks on alone (walk_one_lane). The stack holds at most
-// three pending siblings a level: bvh_stack_size bounds it. `leaf_records`: what a leaf reads first
-// (prefetch_child).
-template <typename Record, typename AtLeaf>
+// Below a node that at most `lanes_alone` lanes still meet, each of them walks on alone (walk_one_lane), one after
+// the other: a leaf is then visited once for each, and at_leaf, told its walking lane, must keep only that lane's
+// crossings. The stack holds at most three pending siblings a level: bvh_stack_size bounds it. `leaf_records`: what a
+// leaf reads first (prefetch_child).
+template <int lanes_alone = 1, typename Record, typename AtLeaf>
 void for_each_leaf_met(const Bvh& bvh, const LargeArray<Record>& leaf_records, const BvhRays& rays, vbool4& lanes,
                        const vfloat4& t_max, AtLeaf&& at_leaf) {
     PacketPending stack[bvh_stack_size];
@@ -227,9 +228,13 @@ void for_each_leaf_met(const Bvh& bvh, const LargeArray<Record>& leaf_records, c
             }
             continue;
         }
-        if ((meeting_bits & (meeting_bits - 1)) == 0) {
-            walk_one_lane(bvh, leaf_records, rays, __builtin_ctz(static_cast<unsigned>(meeting_bits)), pending.first,
-                          lanes, t_max, at_leaf);
+        if (__builtin_popcount(static_cast<unsigned>(meeting_bits)) <= lanes_alone) {
+            for (int bits = meeting_bits; bits != 0; bits &= bits - 1) {
+                const int lane = __builtin_ctz(static_cast<unsigned>(bits));
+                if ((movemask(lanes) >> lane) & 1) {
+                    walk_one_lane(bvh, leaf_records, rays, lane, pending.first, lanes, t_max, at_leaf);
+                }
+            }
             if (none(lanes)) {
                 return;
             }
@@ -403,6 +408,12 @@ void for_each_crossing_of_lane(const CompiledShape& shape, const BvhLeaf& leaf, 
     }
 }
 
+// Inside a shape, a node that three lanes or fewer meet is walked by each of them alone: four boxes a test and four
+// triangles a test for one ray cost about what one box or one triangle costs for four lanes, so up to three lanes
+// apart cost less than the packet, whose idle lanes ride along (forest of 4 000, first hits: 176 → 170 ns, and 1–5 %
+// at 1 000 to 100 000; docs/performance.md). The scene's walk keeps one: there a leaf's kernels run for every lane.
+constexpr int shape_lanes_alone = 3;
+
 // Calls visit(crossing, place) for every triangle of the instance's shape (`place` in its triangle list) that some
 // lane of `lanes` meets before its t_max, through the shape's BVH where it has one; visit may lower t_max and clear
 // lanes (a shadow ray blocked), both read again at every node, as for_each_leaf_met reads them. The caller has
@@ -422,25 +433,32 @@ void for_each_crossing_inside(const CompiledScene& scene, const InstanceRecord& 
     // The leaf by reference: by value, the lone lane's walk packed its two places into one register through the
     // stack, a stalled store forwarding at every leaf (3 % of a first hit at 100 000 instances).
     const BvhRays box_rays(object, shape_ray_padding<P>());
-    for_each_leaf_met(shape.bvh, shape.triangles.items, box_rays, lanes, t_max, [&](const BvhLeaf& leaf) {
-        const int alone = lane_alone_at(leaf, lanes);
-        if constexpr (!P::moller_trumbore) {
-            if (alone >= 0) {
-                if (alone != framed) {
-                    alone_frame = sheared.lane_alone(alone);
-                    framed = alone;
+    for_each_leaf_met<shape_lanes_alone>(
+        shape.bvh, shape.triangles.items, box_rays, lanes, t_max, [&](const BvhLeaf& leaf) {
+            const int alone = lane_alone_at(leaf, lanes);
+            if constexpr (!P::moller_trumbore) {
+                if (alone >= 0) {
+                    if (alone != framed) {
+                        alone_frame = sheared.lane_alone(alone);
+                        framed = alone;
+                    }
+                    for_each_crossing_of_lane<P>(shape, leaf, alone_frame, alone, visit);
+                    return;
                 }
-                for_each_crossing_of_lane<P>(shape, leaf, alone_frame, alone, visit);
-                return;
             }
-        }
-        for (std::uint32_t place = leaf.first; place < leaf.first + leaf.count; ++place) {
-            TriangleHit4 crossing = triangle_crossing<P>(shape.triangles.items[place], sheared);
-            if (any(crossing.valid)) {
-                visit(crossing, place);
+            // Here with a walking lane only under Möller–Trumbore: the packet's other lanes walk this leaf too, and
+            // their crossings here are theirs to find.
+            const vbool4 finding = leaf.walking_lane >= 0 ? lanes_of(1 << leaf.walking_lane) : all_true();
+            for (std::uint32_t place = leaf.first; place < leaf.first + leaf.count; ++place) {
+                TriangleHit4 crossing = triangle_crossing<P>(shape.triangles.items[place], sheared);
+                if constexpr (P::moller_trumbore) {
+                    crossing.valid = crossing.valid & finding;
+                }
+                if (any(crossing.valid)) {
+                    visit(crossing, place);
+                }
             }
-        }
-    });
+        });
 }
 
 // for_each_crossing_inside behind the instance's box. `world`: the packet's own BvhRays.
