@@ -137,10 +137,11 @@ TEST(Attribution, ABadlyConditionedInstancesEndIsExplainedByTheTripIntoItsSpace)
 }
 
 // The same plate casting a shadow: a shadow ray from the floor to the light passes the plate's end 7 000 units from
-// its origin, float's trip moves it there by units, and the SSE tracer's shadow edge lies units off the reference's.
-// The ray tree does not record the leaf that blocked a shadow ray: the slack is that of the placed leaves whose box the
-// ray passes. The plate written in the world has none, and a second plate far off (whose box no shadow ray in view
-// passes) lends it none: moved by 3 units for the SSE tracer, its shadow's edge leaves pixels unexplained.
+// its origin, float's trip moves it there by units, and the SSE tracer's shadow lies in streaks units off the
+// reference's. The ray tree does not record the leaf that blocked a shadow ray: the slack is that of the placed leaves
+// whose box the ray passes. The plate written in the world has none, and a second plate far off (whose box no shadow
+// ray in view passes) lends it none: moved by 3 units for the SSE tracer, its shadow leaves pixels unexplained (all
+// were explained while the shifted shadow origins sank under the floor, which then blocked them).
 TEST(Attribution, ABadlyConditionedInstancesShadowIsExplainedByTheTripIntoItsSpace) {
     if (!sse::cpu_supports_sse41()) {
         GTEST_SKIP() << sse::missing_sse41_message();

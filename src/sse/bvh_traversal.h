@@ -205,8 +205,8 @@ void walk_one_lane(const Bvh& bvh, const LargeArray<Record>& leaf_records, const
 // lower t_max and clear lanes (rays that are done); both are read again at every node, and the walk stops
 // when no lane is left. A node's children met are visited nearest first (by the least entry of any lane).
 // Below a node that at most `lanes_alone` lanes still meet, each of them walks on alone (walk_one_lane), one after
-// the other: a leaf is then visited once for each, and at_leaf, told its walking lane, must keep only that lane's
-// crossings. The stack holds at most three pending siblings a level: bvh_stack_size bounds it. `leaf_records`: what a
+// the other: past one, a leaf may be visited once for each, and at_leaf, told its walking lane, must keep only that
+// lane's crossings. The stack holds at most three pending siblings a level: bvh_stack_size bounds it. `leaf_records`: what a
 // leaf reads first (prefetch_child).
 template <int lanes_alone = 1, typename Record, typename AtLeaf>
 void for_each_leaf_met(const Bvh& bvh, const LargeArray<Record>& leaf_records, const BvhRays& rays, vbool4& lanes,
@@ -410,8 +410,9 @@ void for_each_crossing_of_lane(const CompiledShape& shape, const BvhLeaf& leaf, 
 
 // Inside a shape, a node that three lanes or fewer meet is walked by each of them alone: four boxes a test and four
 // triangles a test for one ray cost about what one box or one triangle costs for four lanes, so up to three lanes
-// apart cost less than the packet, whose idle lanes ride along (forest of 4 000, first hits: 176 → 170 ns, and 1–5 %
-// at 1 000 to 100 000; docs/performance.md). The scene's walk keeps one: there a leaf's kernels run for every lane.
+// apart cost less than the packet, whose idle lanes ride along (first hits on forests of 4 000 and 10 000 trees 2–4 %
+// faster, of 1 000 and 100 000 within noise; docs/performance.md). The scene's walk keeps one: there a leaf's
+// kernels run for every lane.
 constexpr int shape_lanes_alone = 3;
 
 // Calls visit(crossing, place) for every triangle of the instance's shape (`place` in its triangle list) that some
