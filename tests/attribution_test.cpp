@@ -110,6 +110,29 @@ TEST(Attribution, ATracerWithAWrongModelLeavesPixelsUnexplained) {
     }
 }
 
+// A badly conditioned plate of tests/data/attribution/: every pixel that differs between the tracers has `cause`, as
+// the trip into the plate's space explains it, and none is unexplained.
+scene::Scene expect_the_trip_explains(const char* file, accuracy::Cause cause) {
+    const scene::Scene placed =
+        scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "attribution" / file);
+    const accuracy::Attribution attribution = attribute_renders(placed, placed);
+    std::printf("[ measured ] %s, an instance of condition number %.3g: %ld %s, %ld unexplained pixels\n", file,
+                scene::condition_number(placed.meshes.front().placement->transform()), count_of(attribution, cause),
+                accuracy::cause_name(cause), count_of(attribution, accuracy::Cause::unexplained));
+    EXPECT_GT(count_of(attribution, cause), 100);
+    EXPECT_EQ(count_of(attribution, accuracy::Cause::unexplained), 0);
+    return placed;
+}
+
+// The plate written in the world (the first mesh of `in_world`) has no trip: moved by 3 units for the SSE tracer, it
+// leaves pixels unexplained.
+void expect_a_plate_moved_in_the_world_unexplained(const scene::Scene& in_world, const char* what) {
+    const accuracy::Attribution without_trip = attribute_renders(in_world, with_first_mesh_moved(in_world, 3));
+    std::printf("[ measured ] %s, moved 3 units: %ld unexplained pixels\n", what,
+                count_of(without_trip, accuracy::Cause::unexplained));
+    EXPECT_GT(count_of(without_trip, accuracy::Cause::unexplained), 100);
+}
+
 // A plate scaled by 1e4 after a turn of 45° (κ ≈ 1.4e4), its far end seen from 8 700 away: float's trip into the
 // plate's space moves a ray there by units in the world (docs/numerics.md, "Transforms"), and the SSE tracer meets the
 // plate up to 2 units past its end. Every pixel that differs is a silhouette that trip explains. The same plate written
@@ -118,22 +141,9 @@ TEST(Attribution, ABadlyConditionedInstancesEndIsExplainedByTheTripIntoItsSpace)
     if (!sse::cpu_supports_sse41()) {
         GTEST_SKIP() << sse::missing_sse41_message();
     }
-    const scene::Scene placed = scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "attribution" /
-                                                  "badly_conditioned_instance.json");
-    const accuracy::Attribution attribution = attribute_renders(placed, placed);
-    std::printf("[ measured ] instance of condition number %.3g: %ld silhouette, %ld unexplained pixels\n",
-                scene::condition_number(placed.meshes.front().placement->transform()),
-                count_of(attribution, accuracy::Cause::silhouette),
-                count_of(attribution, accuracy::Cause::unexplained));
-    EXPECT_GT(count_of(attribution, accuracy::Cause::silhouette), 100);
-    EXPECT_EQ(count_of(attribution, accuracy::Cause::unexplained), 0);
-
-    const scene::Scene in_world = scene::flattened(placed);
-    const scene::Scene moved = with_first_mesh_moved(in_world, 3);
-    const accuracy::Attribution without_trip = attribute_renders(in_world, moved);
-    std::printf("[ measured ] the plate in the world, moved 3 units: %ld unexplained pixels\n",
-                count_of(without_trip, accuracy::Cause::unexplained));
-    EXPECT_GT(count_of(without_trip, accuracy::Cause::unexplained), 100);
+    const scene::Scene placed =
+        expect_the_trip_explains("badly_conditioned_instance.json", accuracy::Cause::silhouette);
+    expect_a_plate_moved_in_the_world_unexplained(scene::flattened(placed), "the plate in the world");
 }
 
 // The same plate casting a shadow: a shadow ray from the floor to the light passes the plate's end 7 000 units from
@@ -146,23 +156,11 @@ TEST(Attribution, ABadlyConditionedInstancesShadowIsExplainedByTheTripIntoItsSpa
     if (!sse::cpu_supports_sse41()) {
         GTEST_SKIP() << sse::missing_sse41_message();
     }
-    const scene::Scene placed = scene::load_scene(fs::path(TWINRAY_SOURCE_DIR) / "tests" / "data" / "attribution" /
-                                                  "badly_conditioned_shadow.json");
-    const accuracy::Attribution attribution = attribute_renders(placed, placed);
-    std::printf("[ measured ] shadow of an instance of condition number %.3g: %ld shadow, %ld unexplained pixels\n",
-                scene::condition_number(placed.meshes.front().placement->transform()),
-                count_of(attribution, accuracy::Cause::shadow), count_of(attribution, accuracy::Cause::unexplained));
-    EXPECT_GT(count_of(attribution, accuracy::Cause::shadow), 100);
-    EXPECT_EQ(count_of(attribution, accuracy::Cause::unexplained), 0);
-
+    const scene::Scene placed = expect_the_trip_explains("badly_conditioned_shadow.json", accuracy::Cause::shadow);
     scene::Scene in_world = placed;
     in_world.meshes.front() = scene::flattened(placed).meshes.front();
     ASSERT_TRUE(in_world.meshes.back().placement.has_value());
-    const scene::Scene moved = with_first_mesh_moved(in_world, 3);
-    const accuracy::Attribution without_trip = attribute_renders(in_world, moved);
-    std::printf("[ measured ] the plate in the world, moved 3 units, a placed one far off: %ld unexplained pixels\n",
-                count_of(without_trip, accuracy::Cause::unexplained));
-    EXPECT_GT(count_of(without_trip, accuracy::Cause::unexplained), 100);
+    expect_a_plate_moved_in_the_world_unexplained(in_world, "the plate in the world, a placed one far off");
 }
 
 }  // namespace

@@ -206,8 +206,8 @@ void walk_one_lane(const Bvh& bvh, const LargeArray<Record>& leaf_records, const
 // when no lane is left. A node's children met are visited nearest first (by the least entry of any lane).
 // Below a node that at most `lanes_alone` lanes still meet, each of them walks on alone (walk_one_lane), one after
 // the other: past one, a leaf may be visited once for each, and at_leaf, told its walking lane, must keep only that
-// lane's crossings. The stack holds at most three pending siblings a level: bvh_stack_size bounds it. `leaf_records`: what a
-// leaf reads first (prefetch_child).
+// lane's crossings. The stack holds at most three pending siblings a level: bvh_stack_size bounds it.
+// `leaf_records`: what a leaf reads first (prefetch_child).
 template <int lanes_alone = 1, typename Record, typename AtLeaf>
 void for_each_leaf_met(const Bvh& bvh, const LargeArray<Record>& leaf_records, const BvhRays& rays, vbool4& lanes,
                        const vfloat4& t_max, AtLeaf&& at_leaf) {
