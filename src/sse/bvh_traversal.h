@@ -228,7 +228,7 @@ void for_each_leaf_met(const Bvh& bvh, const LargeArray<Record>& leaf_records, c
             }
             continue;
         }
-        if (__builtin_popcount(static_cast<unsigned>(meeting_bits)) <= lanes_alone) {
+        if (lane_count(meeting) <= static_cast<std::uint64_t>(lanes_alone)) {
             for (int bits = meeting_bits; bits != 0; bits &= bits - 1) {
                 const int lane = __builtin_ctz(static_cast<unsigned>(bits));
                 if ((movemask(lanes) >> lane) & 1) {
