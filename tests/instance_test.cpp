@@ -1,7 +1,8 @@
 // Instances of mesh shapes (docs/scene-format.md, "Shapes and instances"): how the loader resolves them, that an
-// instance placed exactly (translations on a binary grid, scales by powers of two) meets the same triangles at the same
-// t, bit for bit, as the mesh written in world coordinates (in the SSE tracer where the scale is even), and that the
-// BVH over instances answers as brute force does.
+// instance placed exactly (translations on a binary grid, seen from an eye on it, scales by powers of two, turns by
+// multiples of 90°) meets the same triangles at the same t as the mesh written in world coordinates, bit for bit but
+// where a tracer's arithmetic takes the axes in another order (below), and that the BVH over instances answers as
+// brute force does.
 #include "reference/tracer.h"
 #include "scene/loader.h"
 #include "sse/cpu.h"
@@ -24,7 +25,9 @@
 namespace twinray {
 namespace {
 
-const std::string header = test::json::lit_scene_opening(80, 60, {0.3, 3, 7});
+// The eye on the grid too: o − t from an eye off it rounds, and then L⁻¹(o − t) − v may round again where o − v did
+// once (0.3 − 2, then 0.5 + 1.7 passes a power of two).
+const std::string header = test::json::lit_scene_opening(80, 60, {0.25, 3, 7});
 
 // An octahedron, closed and wound outward, its vertices on a binary grid; smooth, so that its shading normals are
 // carried out of object space too.
@@ -32,16 +35,24 @@ const std::string octahedron = R"({"type": "mesh", "smooth": true,
     "vertices": [[0.5, 0, 0], [-0.5, 0, 0], [0, 0.5, 0], [0, -0.5, 0], [0, 0, 0.5], [0, 0, -0.5]],
     "triangles": [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])";
 
-// The same scene twice: instances of the octahedron (moved by a binary grid's steps, scaled by 2, 4 and 0.5), and
-// the octahedra they place written out in world coordinates (worked out by hand: vertex · scale + offset).
+// The same scene twice: instances of the octahedron (moved by a binary grid's steps, scaled by 2, 4 and 0.5, turned
+// by 90° about y and 180° about x), and the octahedra they place written out in world coordinates (worked out by
+// hand: vertex · scale, turned, + offset; the turns must come out as exact permutations, and a turn the other way
+// would name other triangles).
 const std::string instanced = header + R"(
   "shapes": { "gem": )" + octahedron +
                               R"(} },
   "objects": [
     { "type": "plane", "normal": [0, 1, 0], "offset": -1, "material": "blue" },
     { "type": "instance", "shape": "gem", "material": "red", "transform": [{"translate": [-1.5, 0.25, -0.5]}] },
-    { "type": "instance", "shape": "gem", "material": "glass", "transform": [{"scale": 2}, {"translate": [1, 0.5, -2]}] },
-    { "type": "instance", "shape": "gem", "transform": [{"scale": [4, 0.5, 2]}, {"translate": [0, -0.75, 1]}] }
+    { "type": "instance", "shape": "gem", "material": "glass",
+      "transform": [{"scale": 2}, {"translate": [1, 0.5, -2]}] },
+    { "type": "instance", "shape": "gem", "transform": [{"scale": [4, 0.5, 2]}, {"translate": [0, -0.75, 1]}] },
+    { "type": "instance", "shape": "gem", "material": "red",
+      "transform": [{"rotate": [0, 90, 0]}, {"translate": [2, 0.25, 1.5]}] },
+    { "type": "instance", "shape": "gem",
+      "transform": [{"scale": 0.5}, {"rotate": {"axis": [1, 0, 0], "deg": 180}},
+                    {"translate": [-2.5, 0.5, 1.5]}] }
   ]
 })";
 
@@ -57,24 +68,38 @@ const std::string flattened = header + R"(
       "triangles": [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]] },
     { "type": "mesh", "smooth": true,
       "vertices": [[2, -0.75, 1], [-2, -0.75, 1], [0, -0.5, 1], [0, -1, 1], [0, -0.75, 2], [0, -0.75, 0]],
+      "triangles": [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]] },
+    { "type": "mesh", "material": "red", "smooth": true,
+      "vertices": [[2, 0.25, 1], [2, 0.25, 2], [2, 0.75, 1.5], [2, -0.25, 1.5], [2.5, 0.25, 1.5], [1.5, 0.25, 1.5]],
+      "triangles": [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]] },
+    { "type": "mesh", "smooth": true,
+      "vertices": [[-2.25, 0.5, 1.5], [-2.75, 0.5, 1.5], [-2.5, 0.25, 1.5], [-2.5, 0.75, 1.5], [-2.5, 0.5, 1.25],
+                   [-2.5, 0.5, 1.75]],
       "triangles": [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]] }
   ]
 })";
 
-// The watertight test carries each ray into a frame chosen by its direction's largest component: an uneven scale
-// (objects[3]'s) can choose another axis in object space than in the world, and t then rounds its own way. Evenly
-// scaled and moved instances choose the same axis, and every step of the test is the world's scaled by powers of 2.
-constexpr int uneven_leaf = 3;  // objects[3], scaled by [4, 0.5, 2]
+// The SSE tracer's watertight test carries each ray into a frame chosen by its direction's largest component: an
+// uneven scale (objects[3]'s) can choose another axis in object space than in the world, and t then rounds its own
+// way. Evenly scaled, moved and turned instances choose the same axis, permuted, and every step of the test is the
+// world's scaled by powers of 2 or negated. The reference's t, ((a − o)·n) / (d·n), sums x, y and z in that order: a
+// quarter turn (objects[4]'s) sums the same products in another order, so its t may round otherwise; a half turn only
+// negates them.
+constexpr int uneven_leaf = 3;          // objects[3], scaled by [4, 0.5, 2]
+constexpr int quarter_turned_leaf = 4;  // objects[4], turned by 90° about y
 
 struct Compared {
     int rays = 0, hits = 0, mismatches = 0;
     double worst_normal = 0;  // the largest |Δ| of a geometric normal's component, or a shading normal's where even
-    double worst_t = 0;       // the largest |Δt|/t on leaves whose t need not be bit for bit
+    int worst_normal_leaf = -1;
+    double worst_t = 0;  // the largest |Δt|/t on leaves whose t need not be bit for bit
 };
 
 // Every pixel's primary ray, first hit against first hit: the same leaf and triangle at the same t, bit for bit
-// where exact(leaf), else within 8 ulps. Shading normals are compared where the scale is even: under an uneven one
-// the instance carries its shape's vertex normals through L⁻ᵀ, where the flattened mesh weighs its own triangles.
+// where exact(leaf), else within 8 ulps. Shading normals are compared where the scale is even and t bit for bit: under
+// an uneven scale the instance carries its shape's vertex normals through L⁻ᵀ, where the flattened mesh weighs its own
+// triangles, and a t a few ulps off moves the point the normals are weighed at (tens of ulps of the normal on a gem
+// half a unit across).
 template <typename Primary, typename InstancedHit, typename FlattenedHit>
 Compared compare_first_hits(const scene::Scene& scene, Primary&& primary, InstancedHit&& instanced_hit,
                             FlattenedHit&& flattened_hit, bool (*exact)(int leaf)) {
@@ -107,11 +132,15 @@ Compared compare_first_hits(const scene::Scene& scene, Primary&& primary, Instan
                 ++out.hits;
                 for (int axis = 0; axis < 3; ++axis) {
                     const double shading =
-                        a->leaf == uneven_leaf
+                        a->leaf == uneven_leaf || !exact(a->leaf)
                             ? 0.0
                             : std::fabs(double(a->shading_normal[axis]) - double(b->shading_normal[axis]));
-                    out.worst_normal = std::max(
-                        {out.worst_normal, std::fabs(double(a->normal[axis]) - double(b->normal[axis])), shading});
+                    const double error =
+                        std::max(std::fabs(double(a->normal[axis]) - double(b->normal[axis])), shading);
+                    if (error > out.worst_normal) {
+                        out.worst_normal = error;
+                        out.worst_normal_leaf = a->leaf;
+                    }
                 }
             }
         }
@@ -130,33 +159,36 @@ protected:
         Compared compared = compare_first_hits(
             instanced_, [&](int x, int y) { return a.primary_ray(x, y, instanced_.width, instanced_.height); },
             [&](const reference::Ray<T>& ray) { return a.intersect(ray); },
-            [&](const reference::Ray<T>& ray) { return b.intersect(ray); }, [](int) { return true; });
+            [&](const reference::Ray<T>& ray) { return b.intersect(ray); },
+            [](int leaf) { return leaf != quarter_turned_leaf; });
         report(name, compared, std::numeric_limits<T>::epsilon());
     }
 
     static void report(const char* name, const Compared& compared, double epsilon) {
         std::printf(
-            "[ measured ] %s: %d rays, %d hits on both, %d differ; normals within %.3g (%.2f ulps), t on "
-            "unevenly scaled instances within %.2f ulps\n",
+            "[ measured ] %s: %d rays, %d hits on both, %d differ; normals within %.3g (%.2f ulps, on objects[%d]), "
+            "t where not bit for bit (the uneven scale in sse, the quarter turn in the reference) within %.2f ulps\n",
             name, compared.rays, compared.hits, compared.mismatches, compared.worst_normal,
-            compared.worst_normal / epsilon, compared.worst_t / epsilon);
+            compared.worst_normal / epsilon, compared.worst_normal_leaf, compared.worst_t / epsilon);
         EXPECT_EQ(compared.mismatches, 0) << name;
         EXPECT_GT(compared.hits, compared.rays / 4) << name << ": the scene must be hit";
-        // A normal comes back through L⁻ᵀ and is made unit again: a few roundings of a unit vector.
-        EXPECT_LE(compared.worst_normal, 4 * epsilon) << name;
+        // A normal comes back through L⁻ᵀ and is made unit again: a few roundings of a unit vector. A shading normal
+        // is also weighed at the point carried into the shape's space, L⁻¹(p − t), which rounds once more, by as much
+        // as the normals bend across the gem: 4.5 ulps in double on objects[5], a gem half the shape's size.
+        EXPECT_LE(compared.worst_normal, 6 * epsilon) << name;
     }
 };
 
 TEST_F(ExactInstances, AMeshShapeIsReadOnceAndEachInstanceIsOneLeafNamedAfterIt) {
     ASSERT_EQ(instanced_.mesh_shapes.size(), 1u);
-    ASSERT_EQ(instanced_.meshes.size(), 3u);
+    ASSERT_EQ(instanced_.meshes.size(), 5u);
     EXPECT_EQ(instanced_.meshes[0].data, instanced_.meshes[2].data);
     EXPECT_EQ(instanced_.leaf_paths[1], "objects[1]");
     EXPECT_EQ(instanced_.leaf_name(1), "objects[1] (shapes.gem)");
     EXPECT_EQ(instanced_.leaf_name(0), "objects[0]");
-    // The floor, three instances and the shape's eight triangles once; flattened, each mesh's eight.
-    EXPECT_EQ(instanced_.primitive_count(), 1u + 3u + 8u);
-    EXPECT_EQ(flattened_.primitive_count(), 1u + 3u * 8u);
+    // The floor, five instances and the shape's eight triangles once; flattened, each mesh's eight.
+    EXPECT_EQ(instanced_.primitive_count(), 1u + 5u + 8u);
+    EXPECT_EQ(flattened_.primitive_count(), 1u + 5u * 8u);
     EXPECT_EQ(instanced_.leaf_materials, flattened_.leaf_materials);
 }
 
@@ -187,12 +219,12 @@ TEST(Instances, AShapesMaterialWinsAndAnInstancesAppliesWhereItNamesNone) {
     EXPECT_EQ(scene.leaf_paths[2], "objects[2].children[0] (shapes.ball)");
 }
 
-TEST_F(ExactInstances, TheReferenceMeetsExactInstancesAtTheFlattenedMeshesTBitForBit) {
+TEST_F(ExactInstances, TheReferenceMeetsExactInstancesAtTheFlattenedMeshesTBitForBitAQuarterTurnWithinUlps) {
     expect_same_first_hits<double>("reference");
     expect_same_first_hits<float>("reference-float");
 }
 
-TEST_F(ExactInstances, TheSseTracerMeetsEvenlyScaledInstancesAtTheFlattenedMeshesTBitForBit) {
+TEST_F(ExactInstances, TheSseTracerMeetsEvenlyScaledOrTurnedInstancesAtTheFlattenedMeshesTBitForBit) {
     if (!sse::cpu_supports_sse41()) {
         GTEST_SKIP() << sse::missing_sse41_message();
     }
