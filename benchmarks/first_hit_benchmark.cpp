@@ -3,10 +3,13 @@
 // rtcIntersect1 in each mode and ISA `twinray bench --scaling` times, so that this machine's drift of speed
 // over seconds falls on every side alike. Prints the median ns per ray of each side and the median of its ratios
 // to ours within a round: the quick loop for work on the walk and the leaves (`bench --scaling` is the full
-// table).
-//   first_hit_benchmark [--runs N] [--width W] [--no-peers] SCENE...   (--no-peers: the SSE tracer alone, to profile)
+// table). --flattened also times a scene of instances flattened into world coordinates (scene::flattened, where
+// that fits the primitive limit), as `twinray bench` does: issue 25's "within 1.5x of flattened".
+//   first_hit_benchmark [--runs N] [--width W] [--no-peers] [--flattened] SCENE...
+//   (--no-peers: the SSE tracer alone, to profile)
 #include "math/median.h"
 #include "scene/loader.h"
+#include "scene/placement.h"
 #include "sse/tracer.h"
 
 #if TWINRAY_WITH_EMBREE
@@ -17,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,13 +37,27 @@ struct Side {
     std::uint64_t hits = 0;
 };
 
-void time_scene(const std::string& file, int runs, int width, bool with_peers) {
+void time_scene(const std::string& file, int runs, int width, bool with_peers, bool with_flattened) {
     const scene::Scene scene = scene::load_scene(file);
+    std::optional<scene::Scene> flat;
+    if (with_flattened && scene.has_instances()) {
+        flat = scene::flattened(scene);
+        if (flat->primitive_count() > scene::max_scene_primitives) {
+            std::printf("%s: flattened, %llu primitives pass the limit of %llu: not timed\n", file.c_str(),
+                        static_cast<unsigned long long>(flat->primitive_count()),
+                        static_cast<unsigned long long>(scene::max_scene_primitives));
+            flat.reset();
+        }
+    }
     RenderOptions options;
     options.width = width;
     options.threads = 1;
     options.accel = Accel::bvh;
     std::vector<Side> sides = {{"sse exact", {}, 0, 0}};
+    if (flat) {
+        sides.push_back({"sse exact flattened", {}, 0, 0});
+    }
+    const std::size_t first_peer = sides.size();
 #if TWINRAY_WITH_EMBREE
     struct Variant {
         const char* name;
@@ -59,13 +77,19 @@ void time_scene(const std::string& file, int runs, int width, bool with_peers) {
         sides[0].seconds.push_back(ours.tracing_cpu_seconds);
         sides[0].rays = ours.rays;
         sides[0].hits = ours.hits;
+        if (flat) {
+            sse::FirstHits flattened = sse::cast_primary_rays(*flat, options);
+            sides[1].seconds.push_back(flattened.tracing_cpu_seconds);
+            sides[1].rays = flattened.rays;
+            sides[1].hits = flattened.hits;
+        }
 #if TWINRAY_WITH_EMBREE
-        for (std::size_t i = 0; i + 1 < sides.size(); ++i) {
+        for (std::size_t i = 0; first_peer + i < sides.size(); ++i) {
             peers::EmbreePeer peer(scene, width, variants[i].isa, variants[i].mode);
             peers::FirstHitRun theirs = peer.cast_single();
-            sides[i + 1].seconds.push_back(theirs.seconds);
-            sides[i + 1].rays = theirs.rays;
-            sides[i + 1].hits = theirs.hits;
+            sides[first_peer + i].seconds.push_back(theirs.seconds);
+            sides[first_peer + i].rays = theirs.rays;
+            sides[first_peer + i].hits = theirs.hits;
         }
 #endif
     }
@@ -90,6 +114,7 @@ int main(int argc, char** argv) {
     int runs = 5;
     int width = 640;
     bool with_peers = true;
+    bool with_flattened = false;
     std::vector<std::string> files;
     for (int i = 1; i < argc; ++i) {
         const std::string argument = argv[i];
@@ -102,6 +127,8 @@ int main(int argc, char** argv) {
             (argument == "--runs" ? runs : width) = value;
         } else if (argument == "--no-peers") {
             with_peers = false;
+        } else if (argument == "--flattened") {
+            with_flattened = true;
         } else if (argument.rfind("--", 0) == 0) {
             std::fprintf(stderr, "first_hit_benchmark: unknown option %s\n", argument.c_str());
             return 2;
@@ -110,12 +137,12 @@ int main(int argc, char** argv) {
         }
     }
     if (files.empty()) {
-        std::fprintf(stderr, "usage: first_hit_benchmark [--runs N] [--width W] [--no-peers] SCENE...\n");
+        std::fprintf(stderr, "usage: first_hit_benchmark [--runs N] [--width W] [--no-peers] [--flattened] SCENE...\n");
         return 2;
     }
     try {
         for (const std::string& file : files) {
-            time_scene(file, runs, width, with_peers);
+            time_scene(file, runs, width, with_peers, with_flattened);
         }
     } catch (const std::exception& error) {
         std::fprintf(stderr, "first_hit_benchmark: %s\n", error.what());
