@@ -9,6 +9,19 @@
 #include <optional>
 
 namespace twinray::sse {
+
+InstanceRecord InstanceRecord::of(const scene::Transform& to_world, std::size_t shape, std::int32_t leaf,
+                                  std::int32_t material) {
+    InstanceRecord record;
+    record.to_world = math::Transform<float>::from(to_world);
+    record.norms = scene::transform_norms<float>(to_world);
+    record.shape = static_cast<std::uint32_t>(shape);
+    record.mirrors = math::determinant(to_world.linear) < 0 ? 1 : 0;
+    record.leaf = leaf;
+    record.material = material;
+    return record;
+}
+
 namespace {
 
 // Widened by a relative margin far beyond float rounding, so that culling never loses a hit.
@@ -210,9 +223,7 @@ public:
             const scene::SolidInstance& instance = scene_.solid_instances[i];
             const auto shape = static_cast<std::size_t>(instance.placement.shape);
             const scene::Transform to_world = instance.placement.transform();
-            out.solid_instances.push_back({math::Transform<float>::from(to_world),
-                                           scene::transform_norms<float>(to_world), static_cast<std::uint32_t>(shape),
-                                           instance.leaf, instance.material, math::determinant(to_world.linear) < 0});
+            out.solid_instances.push_back(InstanceRecord::of(to_world, shape, instance.leaf, instance.material));
             BvhItem item;
             const scene::Bounds bounds =
                 add_csg_object(out, out.solids[shape].tree, scene::placed_bounds(solid_bounds[shape], to_world),
@@ -494,9 +505,8 @@ private:
                 continue;
             }
             const scene::Transform to_world = mesh.placement->transform();
-            out.instances.push_back({math::Transform<float>::from(to_world), scene::transform_norms<float>(to_world),
-                                     static_cast<std::uint32_t>(mesh.placement->shape), mesh.leaf, mesh.material,
-                                     math::determinant(to_world.linear) < 0});
+            out.instances.push_back(InstanceRecord::of(to_world, static_cast<std::size_t>(mesh.placement->shape),
+                                                       mesh.leaf, mesh.material));
         }
     }
 

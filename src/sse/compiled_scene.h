@@ -134,18 +134,25 @@ struct CompiledShape {
     CompiledMesh mesh;
 };
 
-// An instance of a compiled shape (120 bytes): its transform, relative to the compiled scene's origin, and the
+// An instance of a compiled shape (116 bytes): its transform, relative to the compiled scene's origin, and the
 // norms its hits' rounding bounds need (scene::transformed_spawn_offset). A walk reads L⁻¹ and t. Its leaf has no
 // entry in CompiledScene::leaves: its material is here (for a solid shape, where a part names none).
 struct InstanceRecord {
     math::Transform<float> to_world;
     scene::TransformNorms<float> norms;
-    std::uint32_t shape;  // index into CompiledScene::shapes, or for a solid shape's instance into ::solids
+    // Index into CompiledScene::shapes, or for a solid shape's instance into ::solids: fewer than the primitive limit,
+    // far below 2³¹, so that `mirrors` (det L < 0: a triangle's front turns, scene.h) takes its top bit rather than
+    // four bytes of padding, 4 MB of a million instances' peak, which is when the records are made.
+    std::uint32_t shape : 31;
+    std::uint32_t mirrors : 1;
     std::int32_t leaf;
     std::int32_t material;
-    bool mirrors;  // det L < 0: a triangle's front turns (scene.h)
+
+    static InstanceRecord of(const scene::Transform& to_world, std::size_t shape, std::int32_t leaf,
+                             std::int32_t material);
 };
-static_assert(sizeof(InstanceRecord) == 120, "docs/sse-tracer.md states an instance's bytes");
+static_assert(sizeof(InstanceRecord) == 116, "docs/sse-tracer.md states an instance's bytes");
+static_assert(scene::max_scene_primitives < (std::size_t{1} << 31), "a shape's index fits InstanceRecord::shape");
 
 // An instance's box in the world and its record (an index into CompiledScene::instances): what a walk tests before it
 // carries a packet into the instance (test_instance_box). Made once (instance_box), and kept apart from the records
