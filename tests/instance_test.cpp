@@ -90,7 +90,9 @@ constexpr int quarter_turned_leaf = 4;  // objects[4], turned by 90° about y
 
 struct Compared {
     int rays = 0, hits = 0, mismatches = 0;
-    double worst_normal = 0;  // the largest |Δ| of a geometric normal's component, or a shading normal's where even
+    // The largest |Δ| of a geometric normal's component, or of a shading normal's where they are compared (below), and
+    // the leaf it is on.
+    double worst_normal = 0;
     int worst_normal_leaf = -1;
     double worst_t = 0;  // the largest |Δt|/t on leaves whose t need not be bit for bit
 };
