@@ -35,9 +35,15 @@ struct Side {
     std::vector<double> seconds;
     std::uint64_t rays = 0;
     std::uint64_t hits = 0;
+
+    void add_round(double round_seconds, std::uint64_t round_rays, std::uint64_t round_hits) {
+        seconds.push_back(round_seconds);
+        rays = round_rays;
+        hits = round_hits;
+    }
 };
 
-void time_scene(const std::string& file, int runs, int width, bool with_peers, bool with_flattened) {
+void time_scene(const std::string& file, int runs, int width, [[maybe_unused]] bool with_peers, bool with_flattened) {
     const scene::Scene scene = scene::load_scene(file);
     std::optional<scene::Scene> flat;
     if (with_flattened && scene.has_instances()) {
@@ -57,8 +63,8 @@ void time_scene(const std::string& file, int runs, int width, bool with_peers, b
     if (flat) {
         sides.push_back({"sse exact flattened", {}, 0, 0});
     }
-    const std::size_t first_peer = sides.size();
 #if TWINRAY_WITH_EMBREE
+    const std::size_t first_peer = sides.size();
     struct Variant {
         const char* name;
         peers::EmbreeIsa isa;
@@ -72,24 +78,20 @@ void time_scene(const std::string& file, int runs, int width, bool with_peers, b
         sides.push_back({variants[i].name, {}, 0, 0});
     }
 #endif
+    const auto cast_ours = [&](const scene::Scene& cast, Side& side) {
+        const sse::FirstHits ours = sse::cast_primary_rays(cast, options);
+        side.add_round(ours.tracing_cpu_seconds, ours.rays, ours.hits);
+    };
     for (int run = 0; run < runs; ++run) {
-        sse::FirstHits ours = sse::cast_primary_rays(scene, options);
-        sides[0].seconds.push_back(ours.tracing_cpu_seconds);
-        sides[0].rays = ours.rays;
-        sides[0].hits = ours.hits;
+        cast_ours(scene, sides[0]);
         if (flat) {
-            sse::FirstHits flattened = sse::cast_primary_rays(*flat, options);
-            sides[1].seconds.push_back(flattened.tracing_cpu_seconds);
-            sides[1].rays = flattened.rays;
-            sides[1].hits = flattened.hits;
+            cast_ours(*flat, sides[1]);  // pushed right after ours
         }
 #if TWINRAY_WITH_EMBREE
         for (std::size_t i = 0; first_peer + i < sides.size(); ++i) {
             peers::EmbreePeer peer(scene, width, variants[i].isa, variants[i].mode);
-            peers::FirstHitRun theirs = peer.cast_single();
-            sides[first_peer + i].seconds.push_back(theirs.seconds);
-            sides[first_peer + i].rays = theirs.rays;
-            sides[first_peer + i].hits = theirs.hits;
+            const peers::FirstHitRun theirs = peer.cast_single();
+            sides[first_peer + i].add_round(theirs.seconds, theirs.rays, theirs.hits);
         }
 #endif
     }
